@@ -1,0 +1,42 @@
+# Entry points. `make demo` and `make test` work on a fresh Debian machine as root.
+BUILD_TYPE ?= Release
+BUILD_DIR ?= build
+JOBS ?= $(shell nproc)
+# Warnings are errors in CI (CI=true), plain warnings elsewhere.
+WERROR ?= $(if $(CI),ON,OFF)
+DEMO_OUT ?= out/demo
+DATA ?= ../shared/data
+
+CMAKE_FLAGS = -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DHYDRA_MULTI_WERROR=$(WERROR)
+
+.PHONY: all deps build test test-sanitize demo format clean
+
+all: build
+
+deps:
+	@./scripts/install_deps.sh
+
+build: deps
+	@cmake -S . -B $(BUILD_DIR) $(CMAKE_FLAGS) > /dev/null
+	@cmake --build $(BUILD_DIR) -j $(JOBS) -- --no-print-directory
+	@echo "built $(BUILD_DIR)/hydra-multi ($(BUILD_TYPE))"
+
+test: build
+	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+# Every test again under AddressSanitizer and UndefinedBehaviorSanitizer (Debug, own build folder).
+test-sanitize: deps
+	@cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=Debug -DHYDRA_MULTI_SANITIZE=ON \
+	  -DHYDRA_MULTI_WERROR=$(WERROR) > /dev/null
+	@cmake --build build-sanitize -j $(JOBS) -- --no-print-directory
+	@cd build-sanitize && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+	  ctest --output-on-failure -j $(JOBS)
+
+demo: build
+	@./scripts/demo.sh $(BUILD_DIR)/hydra-multi $(DATA) $(DEMO_OUT)
+
+format:
+	@find src tests -name '*.h' -o -name '*.cpp' | xargs clang-format -i
+
+clean:
+	@rm -rf $(BUILD_DIR) build-sanitize out

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# The demo until the station exists: the real Hydra scene graph of the uHumans2 apartment,
+# summarised and converted to every format the project writes.
+set -euo pipefail
+bin=${1:?usage: demo.sh HYDRA_MULTI_BINARY DATA_DIR OUT_DIR}
+data=${2:?}
+out=${3:?}
+input="$data/dsg/apartment_dsg.json"
+if [ ! -f "$input" ]; then
+  echo "demo: $input not found (the shared data must sit at ../shared/data)" >&2
+  exit 1
+fi
+mkdir -p "$out"
+echo "== hydra-multi demo: the real Hydra scene graph of the uHumans2 apartment =="
+"$bin" info "$input"
+echo
+"$bin" convert "$input" "$out/apartment.dsgb"
+"$bin" convert "$out/apartment.dsgb" "$out/apartment.json"
+"$bin" convert "$out/apartment.json" "$out/apartment.spark.json"
+"$bin" info "$out/apartment.dsgb" --json > "$out/summary.json"
+echo "wrote $out/summary.json (the counts above as one JSON object)"
+echo
+echo "Results are in $out/:"
+echo "  apartment.json        our readable JSON (one node, edge or vertex per line)"
+echo "  apartment.dsgb        our compact binary"
+echo "  apartment.spark.json  Spark-DSG's JSON layout, read back by our importer"
+echo "  summary.json          counts per layer and per robot"
+echo "The station (alignment, optimization, merging, rooms) is not built yet: see README.md."

@@ -1,0 +1,140 @@
+// `hydra-multi info FILE [--json]`: what a scene-graph file or a robot-update stream holds.
+
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "hydra_multi/apps/commands.h"
+#include "hydra_multi/dsg/graph_summary.h"
+#include "hydra_multi/dsg/io/binary_format.h"
+#include "hydra_multi/dsg/io/graph_file.h"
+
+namespace hydra_multi::apps {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json layersJson(const std::array<size_t, kAllLayers.size()>& counts) {
+  Json j;
+  for (const Layer layer : kAllLayers) j[layerName(layer)] = counts[static_cast<size_t>(layer)];
+  return j;
+}
+
+void printGraph(const std::string& path, const GraphSummary& s, bool json) {
+  if (json) {
+    Json robots = Json::object();
+    for (const auto& [robot, r] : s.robots) {
+      robots[robot.str()] = {{"nodes", r.numNodes()},
+                             {"layers", layersJson(r.nodes_per_layer)},
+                             {"mesh_vertices", r.mesh_vertices}};
+    }
+    const Json j = {{"file", path},
+                    {"kind", "scene graph"},
+                    {"nodes", s.nodes},
+                    {"edges", s.edges},
+                    {"layers", layersJson(s.nodes_per_layer)},
+                    {"mesh_vertices", s.mesh_vertices},
+                    {"mesh_faces", s.mesh_faces},
+                    {"robots", robots}};
+    std::cout << j.dump() << "\n";
+    return;
+  }
+  std::cout << path << ": scene graph\n"
+            << "  nodes " << s.nodes << ", edges " << s.edges << "\n  ";
+  for (const Layer layer : kAllLayers) {
+    std::cout << layerName(layer) << " " << s.nodes_per_layer[static_cast<size_t>(layer)]
+              << (layer == Layer::kBuildings ? "\n" : ", ");
+  }
+  std::cout << "  mesh: " << s.mesh_vertices << " vertices, " << s.mesh_faces << " faces\n";
+  for (const auto& [robot, r] : s.robots) {
+    std::cout << "  robot " << robot.str() << ": "
+              << r.nodes_per_layer[static_cast<size_t>(Layer::kAgents)] << " agent poses, "
+              << r.numNodes() << " nodes, " << r.mesh_vertices << " mesh vertices\n";
+  }
+}
+
+struct StreamRobot {
+  size_t updates = 0, snapshots = 0, nodes = 0, removed_nodes = 0, edges = 0, mesh_vertices = 0;
+  size_t pose_graph_edges = 0, descriptors = 0;
+  uint64_t first_sequence = 0, last_sequence = 0;
+  int64_t first_time_ns = 0, last_time_ns = 0;
+};
+
+int printStream(const std::string& path, const std::vector<RobotUpdate>& updates, bool json) {
+  std::map<RobotId, StreamRobot> robots;
+  for (const RobotUpdate& u : updates) {
+    StreamRobot& r = robots[u.robot];
+    if (r.updates == 0) {
+      r.first_sequence = u.sequence;
+      r.first_time_ns = u.time_ns;
+    }
+    ++r.updates;
+    r.snapshots += u.is_snapshot ? 1 : 0;
+    r.nodes += u.graph.nodes.size();
+    r.removed_nodes += u.graph.removed_nodes.size();
+    r.edges += u.graph.edges.size();
+    r.mesh_vertices += u.graph.mesh.vertices.size();
+    r.pose_graph_edges += u.pose_graph.size();
+    r.descriptors += u.descriptors.size();
+    r.last_sequence = u.sequence;
+    r.last_time_ns = u.time_ns;
+  }
+  if (json) {
+    Json per_robot = Json::object();
+    for (const auto& [robot, r] : robots) {
+      per_robot[robot.str()] = {{"updates", r.updates},
+                                {"snapshots", r.snapshots},
+                                {"first_sequence", r.first_sequence},
+                                {"last_sequence", r.last_sequence},
+                                {"first_time_ns", r.first_time_ns},
+                                {"last_time_ns", r.last_time_ns},
+                                {"nodes_sent", r.nodes},
+                                {"nodes_removed", r.removed_nodes},
+                                {"edges_sent", r.edges},
+                                {"mesh_vertices_sent", r.mesh_vertices},
+                                {"pose_graph_edges", r.pose_graph_edges},
+                                {"descriptors", r.descriptors}};
+    }
+    std::cout << Json{{"file", path},
+                      {"kind", "robot updates"},
+                      {"updates", updates.size()},
+                      {"robots", per_robot}}
+                     .dump()
+              << "\n";
+    return 0;
+  }
+  std::cout << path << ": " << updates.size() << " robot updates\n";
+  for (const auto& [robot, r] : robots) {
+    std::cout << "  robot " << robot.str() << ": " << r.updates << " updates (" << r.snapshots
+              << " snapshots), sequence " << r.first_sequence << ".." << r.last_sequence << ", "
+              << r.nodes << " nodes sent, " << r.removed_nodes << " removed, " << r.edges
+              << " edges, " << r.mesh_vertices << " mesh vertices, " << r.pose_graph_edges
+              << " pose-graph edges, " << r.descriptors << " descriptors\n";
+  }
+  return 0;
+}
+
+// Whether a .dsgb file starts with a robot-update record (rather than a scene graph).
+bool isUpdateStream(const std::string& path) {
+  auto bytes = io::readFile(path);
+  if (!bytes) return false;
+  io::RecordReader reader(bytes.value());
+  auto record = reader.next();
+  return record && record.value() && record.value()->kind == io::RecordKind::kRobotUpdate;
+}
+
+}  // namespace
+
+int runInfo(const InfoOptions& options) {
+  const auto format = io::formatFromPath(options.path);
+  if (format == io::FileFormat::kBinary && isUpdateStream(options.path)) {
+    auto updates = io::loadRobotUpdates(options.path);
+    if (!updates) return fail(updates.error());
+    return printStream(options.path, updates.value(), options.json);
+  }
+  auto graph = io::loadSceneGraph(options.path);
+  if (!graph) return fail(graph.error());
+  printGraph(options.path, summarize(graph.value()), options.json);
+  return 0;
+}
+
+}  // namespace hydra_multi::apps

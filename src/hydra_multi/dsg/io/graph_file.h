@@ -1,0 +1,33 @@
+#pragma once
+// Reading and writing scene-graph files, the format chosen by the file name:
+//   .spark.json  Spark-DSG JSON             .json  our JSON (or Spark-DSG JSON, told by content)
+//   .dsgb        our binary                 .ply   the mesh only (write only)
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hydra_multi/core/result.h"
+#include "hydra_multi/dsg/robot_update.h"
+#include "hydra_multi/dsg/scene_graph.h"
+
+namespace hydra_multi::io {
+
+enum class FileFormat { kJson, kSparkJson, kBinary, kPly };
+
+/// The format a path names by its extension; nullopt for an unknown one.
+std::optional<FileFormat> formatFromPath(const std::string& path);
+const char* formatName(FileFormat format);
+
+Result<std::string> readFile(const std::string& path);
+Status writeFile(const std::string& path, const std::string& bytes);
+
+/// Loads a graph; errors start with the path.
+Result<SceneGraph> loadSceneGraph(const std::string& path);
+/// Saves a graph (for .ply, its mesh); creates no folders.
+Status saveSceneGraph(const std::string& path, const SceneGraph& graph);
+
+/// Loads every robot update of a .dsgb update stream, or of a robot-update .json file.
+Result<std::vector<RobotUpdate>> loadRobotUpdates(const std::string& path);
+
+}  // namespace hydra_multi::io

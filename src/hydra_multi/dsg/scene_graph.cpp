@@ -1,0 +1,248 @@
+#include "hydra_multi/dsg/scene_graph.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace hydra_multi {
+namespace {
+
+std::vector<uint64_t> unitedSorted(std::vector<uint64_t> a, const std::vector<uint64_t>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  std::sort(a.begin(), a.end());
+  a.erase(std::unique(a.begin(), a.end()), a.end());
+  return a;
+}
+
+void fuseSemantic(SemanticAttributes& target, const SemanticAttributes& source) {
+  if (target.bounding_box && source.bounding_box) {
+    target.bounding_box = target.bounding_box->merged(*source.bounding_box);
+  } else if (!target.bounding_box) {
+    target.bounding_box = source.bounding_box;
+  }
+}
+
+// Fuses the attributes of `source` into `target` (same layer, not agents).
+void fuseAttributes(Node& target, const Node& source) {
+  target.position = 0.5 * (target.position + source.position);
+  target.last_update_time_ns = std::max(target.last_update_time_ns, source.last_update_time_ns);
+  target.is_active = target.is_active || source.is_active;
+  fuseSemantic(*target.semantic(), *source.semantic());
+  if (auto* object = target.find<ObjectAttributes>()) {
+    object->mesh_vertices =
+        unitedSorted(object->mesh_vertices, source.find<ObjectAttributes>()->mesh_vertices);
+  }
+  if (auto* place = target.find<PlaceAttributes>()) {
+    const auto* other = source.find<PlaceAttributes>();
+    place->distance = 0.5 * (place->distance + other->distance);
+    place->mesh_vertices = unitedSorted(place->mesh_vertices, other->mesh_vertices);
+  }
+}
+
+}  // namespace
+
+bool SceneGraph::addOrUpdateNode(Node node) {
+  auto it = nodes_.find(node.id);
+  if (it == nodes_.end()) {
+    const NodeId id = node.id;
+    nodes_.emplace(id, std::move(node));
+    adjacency_[id];
+    return true;
+  }
+  if (it->second.layer() != node.layer()) {
+    throw std::invalid_argument("node " + node.id.str() + " exists in layer " +
+                                layerName(it->second.layer()) + ", not " + layerName(node.layer()));
+  }
+  it->second = std::move(node);
+  return false;
+}
+
+bool SceneGraph::removeNode(NodeId id) {
+  auto it = nodes_.find(id);
+  if (it == nodes_.end()) return false;
+  const std::set<NodeId> neighbours = adjacency_[id];
+  for (const NodeId other : neighbours) removeEdge(id, other);
+  adjacency_.erase(id);
+  nodes_.erase(it);
+  return true;
+}
+
+const Node* SceneGraph::findNode(NodeId id) const {
+  auto it = nodes_.find(id);
+  return it == nodes_.end() ? nullptr : &it->second;
+}
+
+const Node& SceneGraph::getNode(NodeId id) const {
+  const Node* node = findNode(id);
+  if (!node) throw std::out_of_range("no node " + id.str());
+  return *node;
+}
+
+Node* SceneGraph::findMutableNode(NodeId id) {
+  auto it = nodes_.find(id);
+  return it == nodes_.end() ? nullptr : &it->second;
+}
+
+bool SceneGraph::addOrUpdateEdge(NodeId a, NodeId b, EdgeAttributes info) {
+  const Node* node_a = findNode(a);
+  const Node* node_b = findNode(b);
+  if (!node_a || !node_b) {
+    throw std::invalid_argument("edge " + a.str() + " - " + b.str() + ": endpoint " +
+                                (node_a ? b : a).str() + " does not exist");
+  }
+  if (a == b) throw std::invalid_argument("edge " + a.str() + " - " + b.str() + ": self-loop");
+  if (!isValidEdge(node_a->layer(), node_b->layer())) {
+    throw std::invalid_argument("edge " + a.str() + " - " + b.str() + ": layers " +
+                                layerName(node_a->layer()) + " and " + layerName(node_b->layer()) +
+                                " may not be joined");
+  }
+  const EdgeKey key(a, b);
+  auto it = edges_.find(key);
+  if (it != edges_.end()) {
+    it->second = info;
+    return false;
+  }
+  // One parent per node: a new parent edge replaces the child's old one.
+  const int level_a = layerLevel(node_a->layer());
+  const int level_b = layerLevel(node_b->layer());
+  if (level_a != level_b) {
+    const NodeId child = level_a < level_b ? a : b;
+    if (const auto old_parent = parent(child)) removeEdge(child, *old_parent);
+  }
+  edges_.emplace(key, info);
+  adjacency_[a].insert(b);
+  adjacency_[b].insert(a);
+  return true;
+}
+
+bool SceneGraph::removeEdge(NodeId a, NodeId b) {
+  if (edges_.erase(EdgeKey(a, b)) == 0) return false;
+  adjacency_[a].erase(b);
+  adjacency_[b].erase(a);
+  return true;
+}
+
+const EdgeAttributes* SceneGraph::findEdge(NodeId a, NodeId b) const {
+  auto it = edges_.find(EdgeKey(a, b));
+  return it == edges_.end() ? nullptr : &it->second;
+}
+
+std::vector<NodeId> SceneGraph::neighbours(NodeId id) const {
+  std::vector<NodeId> result;
+  const Node* node = findNode(id);
+  if (!node) return result;
+  for (const NodeId other : adjacency_.at(id)) {
+    if (getNode(other).layer() == node->layer()) result.push_back(other);
+  }
+  return result;
+}
+
+std::vector<NodeId> SceneGraph::adjacent(NodeId id) const {
+  auto it = adjacency_.find(id);
+  if (it == adjacency_.end()) return {};
+  return {it->second.begin(), it->second.end()};
+}
+
+std::optional<NodeId> SceneGraph::parent(NodeId id) const {
+  const Node* node = findNode(id);
+  if (!node) return std::nullopt;
+  for (const NodeId other : adjacency_.at(id)) {
+    if (layerLevel(getNode(other).layer()) > layerLevel(node->layer())) return other;
+  }
+  return std::nullopt;
+}
+
+std::vector<NodeId> SceneGraph::children(NodeId id) const {
+  std::vector<NodeId> result;
+  const Node* node = findNode(id);
+  if (!node) return result;
+  for (const NodeId other : adjacency_.at(id)) {
+    if (layerLevel(getNode(other).layer()) < layerLevel(node->layer())) result.push_back(other);
+  }
+  return result;
+}
+
+std::vector<NodeId> SceneGraph::nodesInLayer(Layer layer) const {
+  std::vector<NodeId> result;
+  for (const auto& [id, node] : nodes_) {
+    if (node.layer() == layer) result.push_back(id);
+  }
+  return result;
+}
+
+std::vector<NodeId> SceneGraph::nodesOfRobot(RobotId robot) const {
+  std::vector<NodeId> result;
+  for (const auto& [id, node] : nodes_) {
+    if (node.robot() == robot) result.push_back(id);
+  }
+  return result;
+}
+
+std::vector<RobotId> SceneGraph::robots() const {
+  std::set<RobotId> robots;
+  for (const auto& [id, node] : nodes_) {
+    if (const auto robot = node.robot()) robots.insert(*robot);
+  }
+  for (const MeshVertex& vertex : mesh_.vertices) robots.insert(vertex.robot);
+  return {robots.begin(), robots.end()};
+}
+
+size_t SceneGraph::numNodes(Layer layer) const {
+  return static_cast<size_t>(
+      std::count_if(nodes_.begin(), nodes_.end(),
+                    [layer](const auto& entry) { return entry.second.layer() == layer; }));
+}
+
+MergeRecord SceneGraph::mergeNodes(NodeId target, NodeId source) {
+  const Node* target_node = findNode(target);
+  const Node* source_node = findNode(source);
+  if (!target_node || !source_node || target == source) {
+    throw std::invalid_argument("merge " + source.str() + " into " + target.str() +
+                                ": both nodes must exist and differ");
+  }
+  if (target_node->layer() != source_node->layer() || target_node->layer() == Layer::kAgents) {
+    throw std::invalid_argument("merge " + source.str() + " into " + target.str() +
+                                ": only nodes of one layer other than agents merge");
+  }
+  MergeRecord record{*target_node, *source_node, {}, {}};
+  for (const NodeId other : adjacency_.at(source)) {
+    record.source_edges.push_back({source, other, edges_.at(EdgeKey(source, other))});
+  }
+  const int target_level = layerLevel(target_node->layer());
+  const bool target_has_parent = parent(target).has_value();
+  for (const Edge& edge : record.source_edges) {
+    const NodeId other = edge.target;
+    if (other == target || hasEdge(target, other)) continue;
+    const bool is_parent_edge = layerLevel(getNode(other).layer()) > target_level;
+    if (is_parent_edge && target_has_parent) continue;
+    record.moved_to_target.push_back(other);
+  }
+  fuseAttributes(*findMutableNode(target), *source_node);
+  removeNode(source);
+  for (const NodeId other : record.moved_to_target) {
+    const Edge& edge = *std::find_if(record.source_edges.begin(), record.source_edges.end(),
+                                     [other](const Edge& e) { return e.target == other; });
+    addOrUpdateEdge(target, other, edge.info);
+  }
+  return record;
+}
+
+Status SceneGraph::undoMerge(const MergeRecord& record) {
+  const NodeId target = record.target_before.id;
+  if (!hasNode(target)) return Error{"undo merge: target " + target.str() + " no longer exists"};
+  if (hasNode(record.source.id)) {
+    return Error{"undo merge: source id " + record.source.id.str() + " is in use again"};
+  }
+  for (const NodeId other : record.moved_to_target) removeEdge(target, other);
+  addOrUpdateNode(record.target_before);
+  addOrUpdateNode(record.source);
+  for (const Edge& edge : record.source_edges) {
+    if (hasNode(edge.target)) addOrUpdateEdge(edge.source, edge.target, edge.info);
+  }
+  return Status::Ok();
+}
+
+bool SceneGraph::operator==(const SceneGraph& other) const {
+  return nodes_ == other.nodes_ && edges_ == other.edges_ && mesh_ == other.mesh_;
+}
+
+}  // namespace hydra_multi

@@ -1,0 +1,215 @@
+// Decoding never crashes: thousands of seeded mutations of valid inputs, in every format, are each
+// either decoded into a valid graph or update, or rejected with a message. Run under ASan/UBSan by
+// `make test-sanitize`.
+
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <random>
+
+#include "hydra_multi/dsg/io/binary_format.h"
+#include "hydra_multi/dsg/io/byte_codec.h"
+#include "hydra_multi/dsg/io/json_fields.h"
+#include "hydra_multi/dsg/io/json_format.h"
+#include "hydra_multi/dsg/io/spark_json.h"
+#include "support/random_graphs.h"
+
+namespace hydra_multi::io {
+namespace {
+
+using Decoder = std::function<Status(const std::string&)>;
+
+struct Tally {
+  int decoded = 0;
+  int rejected = 0;
+};
+
+// Runs the decoder; it must return (no crash, no escaping exception) with a usable outcome.
+void check(const Decoder& decode, const std::string& input, Tally& tally) {
+  Status status;
+  ASSERT_NO_THROW(status = decode(input));
+  if (status.ok()) {
+    ++tally.decoded;
+  } else {
+    ++tally.rejected;
+    ASSERT_FALSE(status.message().empty());
+  }
+}
+
+// Byte-level mutations: flips, overwrites, truncation, insertion, deletion, duplication, noise.
+std::string mutateBytes(std::string s, std::mt19937& rng) {
+  auto pick = [&](size_t n) { return n == 0 ? size_t{0} : static_cast<size_t>(rng() % n); };
+  const int kind = static_cast<int>(rng() % 7);
+  const int repeats = 1 + static_cast<int>(rng() % 4);
+  for (int r = 0; r < repeats; ++r) {
+    switch (kind) {
+      case 0:
+        if (!s.empty()) s[pick(s.size())] ^= static_cast<char>(1u << (rng() % 8));
+        break;
+      case 1:
+        if (!s.empty()) s[pick(s.size())] = static_cast<char>(rng());
+        break;
+      case 2:
+        s.resize(pick(s.size() + 1));
+        break;
+      case 3:
+        s.insert(pick(s.size() + 1), std::string(1 + pick(8), static_cast<char>(rng())));
+        break;
+      case 4:
+        if (!s.empty()) s.erase(pick(s.size()), 1 + pick(16));
+        break;
+      case 5:
+        if (!s.empty()) {
+          const size_t at = pick(s.size());
+          s.insert(pick(s.size() + 1), s.substr(at, 1 + pick(32)));
+        }
+        break;
+      default: {
+        std::string noise(pick(64), '\0');
+        for (char& c : noise) c = static_cast<char>(rng());
+        return noise;
+      }
+    }
+  }
+  return s;
+}
+
+// A record with a valid frame and checksum around any payload, so mutations reach the decoder.
+std::string frame(RecordKind kind, const std::string& payload) {
+  ByteWriter body;
+  body.u8(static_cast<uint8_t>(kind));
+  body.u16(kBinaryVersion);
+  body.varint(payload.size());
+  body.raw(payload);
+  ByteWriter record;
+  record.raw("HMDG");
+  record.raw(body.bytes());
+  record.u32(crc32(body.bytes()));
+  return record.release();
+}
+
+std::string payloadOf(const std::string& record) {
+  RecordReader reader(record);
+  auto view = reader.next();
+  return std::string(view.value()->payload);
+}
+
+// Structure-aware JSON mutations: replace a random value by one of the wrong type or range, or
+// delete a member.
+void mutateJsonTree(Json& j, std::mt19937& rng, int depth = 0) {
+  const bool descend = (j.is_object() || j.is_array()) && !j.empty() && depth < 8 && rng() % 4 != 0;
+  if (descend) {
+    const size_t i = rng() % j.size();
+    if (j.is_object() && rng() % 6 == 0) {
+      j.erase(std::next(j.begin(), static_cast<std::ptrdiff_t>(i)).key());
+      return;
+    }
+    mutateJsonTree(
+        j.is_object() ? std::next(j.begin(), static_cast<std::ptrdiff_t>(i)).value() : j[i], rng,
+        depth + 1);
+    return;
+  }
+  static const std::vector<Json> replacements = {nullptr,
+                                                 -1,
+                                                 0,
+                                                 1.5,
+                                                 1e308,
+                                                 -1e308,
+                                                 Json(UINT64_MAX),
+                                                 Json(INT64_MIN),
+                                                 "x",
+                                                 "O(3)",
+                                                 "a7",
+                                                 Json::array(),
+                                                 Json::array({1, 2}),
+                                                 Json::array({1e300, 2, 3}),
+                                                 Json::object(),
+                                                 true};
+  j = replacements[rng() % replacements.size()];
+}
+
+std::string mutateJsonText(const std::string& text, std::mt19937& rng) {
+  Json j = Json::parse(text);
+  const int repeats = 1 + static_cast<int>(rng() % 3);
+  for (int r = 0; r < repeats; ++r) mutateJsonTree(j, rng);
+  return j.dump();
+}
+
+class DecodeFuzz : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::mt19937 rng(61);
+    graph_ = testing::makeRandomGraph(rng, {8, 4, 12, 2, 30, 40});
+    update_ = testing::makeRandomUpdate(rng);
+  }
+  SceneGraph graph_;
+  RobotUpdate update_;
+};
+
+const Decoder kBinaryGraph = [](const std::string& s) {
+  return decodeSceneGraphBinary(s).status();
+};
+const Decoder kBinaryUpdate = [](const std::string& s) {
+  return decodeRobotUpdateBinary(s).status();
+};
+const Decoder kJsonGraph = [](const std::string& s) { return sceneGraphFromJson(s).status(); };
+const Decoder kJsonUpdate = [](const std::string& s) { return robotUpdateFromJson(s).status(); };
+const Decoder kSparkGraph = [](const std::string& s) {
+  return sceneGraphFromSparkJson(s).status();
+};
+
+TEST_F(DecodeFuzz, BinaryBytes) {
+  std::mt19937 rng(62);
+  Tally tally;
+  const std::string graph = encodeSceneGraphBinary(graph_);
+  const std::string update = encodeRobotUpdateBinary(update_);
+  for (int i = 0; i < 2000; ++i) {
+    check(kBinaryGraph, mutateBytes(graph, rng), tally);
+    check(kBinaryUpdate, mutateBytes(update, rng), tally);
+  }
+  EXPECT_GT(tally.rejected, 3000);
+}
+
+// Mutated payloads in valid frames reach the field decoders; some still decode.
+TEST_F(DecodeFuzz, BinaryPayloads) {
+  std::mt19937 rng(63);
+  Tally tally;
+  const std::string graph = payloadOf(encodeSceneGraphBinary(graph_));
+  const std::string update = payloadOf(encodeRobotUpdateBinary(update_));
+  for (int i = 0; i < 3000; ++i) {
+    check(kBinaryGraph, frame(RecordKind::kSceneGraph, mutateBytes(graph, rng)), tally);
+    check(kBinaryUpdate, frame(RecordKind::kRobotUpdate, mutateBytes(update, rng)), tally);
+  }
+  EXPECT_GT(tally.rejected, 1000);
+  EXPECT_GT(tally.decoded, 50);
+}
+
+TEST_F(DecodeFuzz, JsonTrees) {
+  std::mt19937 rng(64);
+  Tally tally;
+  const std::string graph = sceneGraphToJson(graph_, true);
+  const std::string update = robotUpdateToJson(update_, true);
+  const std::string spark = sceneGraphToSparkJson(graph_);
+  for (int i = 0; i < 1500; ++i) {
+    check(kJsonGraph, mutateJsonText(graph, rng), tally);
+    check(kJsonUpdate, mutateJsonText(update, rng), tally);
+    check(kSparkGraph, mutateJsonText(spark, rng), tally);
+  }
+  EXPECT_GT(tally.rejected, 1000);
+  EXPECT_GT(tally.decoded, 100);
+}
+
+TEST_F(DecodeFuzz, JsonBytes) {
+  std::mt19937 rng(65);
+  Tally tally;
+  const std::string graph = sceneGraphToJson(graph_);
+  const std::string spark = sceneGraphToSparkJson(graph_);
+  for (int i = 0; i < 1000; ++i) {
+    check(kJsonGraph, mutateBytes(graph, rng), tally);
+    check(kSparkGraph, mutateBytes(spark, rng), tally);
+  }
+  EXPECT_GT(tally.rejected, 1000);
+}
+
+}  // namespace
+}  // namespace hydra_multi::io

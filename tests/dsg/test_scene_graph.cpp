@@ -1,0 +1,154 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "hydra_multi/dsg/graph_summary.h"
+#include "hydra_multi/dsg/scene_graph.h"
+#include "support/random_graphs.h"
+
+namespace hydra_multi {
+namespace {
+
+const NodeId kBuilding('B', 0), kRoom('R', 0), kRoom2('R', 1), kPlace1('p', 1), kPlace2('p', 2),
+    kObject1('O', 1), kObject2('O', 2), kAgent0('a', 0), kAgent1('a', 1);
+
+SceneGraph smallGraph() {
+  SceneGraph g;
+  g.addOrUpdateNode(makeNode(kBuilding, Layer::kBuildings));
+  g.addOrUpdateNode(makeNode(kRoom, Layer::kRooms));
+  g.addOrUpdateNode(makeNode(kRoom2, Layer::kRooms));
+  g.addOrUpdateNode(makeNode(kPlace1, Layer::kPlaces, {0, 0, 1}));
+  g.addOrUpdateNode(makeNode(kPlace2, Layer::kPlaces, {2, 0, 1}));
+  g.addOrUpdateNode(makeNode(kObject1, Layer::kObjects, {0, 1, 1}));
+  g.addOrUpdateNode(makeNode(kAgent0, Layer::kAgents));
+  g.addOrUpdateNode(makeNode(kAgent1, Layer::kAgents));
+  g.addOrUpdateEdge(kBuilding, kRoom);
+  g.addOrUpdateEdge(kRoom, kPlace1);
+  g.addOrUpdateEdge(kPlace1, kPlace2, {1.5, true});
+  g.addOrUpdateEdge(kPlace1, kObject1);
+  g.addOrUpdateEdge(kAgent0, kAgent1);
+  g.addOrUpdateEdge(kPlace2, kAgent1);
+  return g;
+}
+
+TEST(SceneGraph, AddUpdateAndQuery) {
+  SceneGraph g = smallGraph();
+  EXPECT_EQ(g.numNodes(), 8u);
+  EXPECT_EQ(g.numEdges(), 6u);
+  EXPECT_EQ(g.numNodes(Layer::kPlaces), 2u);
+  EXPECT_EQ(g.parent(kPlace1), kRoom);
+  EXPECT_EQ(g.parent(kRoom), kBuilding);
+  EXPECT_FALSE(g.parent(kBuilding).has_value());
+  EXPECT_EQ(g.children(kPlace1), std::vector<NodeId>{kObject1});
+  EXPECT_EQ(g.neighbours(kPlace1), std::vector<NodeId>{kPlace2});
+  EXPECT_EQ(g.findEdge(kPlace1, kPlace2)->weight, 1.5);
+  EXPECT_EQ(g.findEdge(kPlace2, kPlace1)->weight, 1.5);  // undirected
+  EXPECT_EQ(g.nodesOfRobot(RobotId(0)), (std::vector<NodeId>{kAgent0, kAgent1}));
+  EXPECT_EQ(g.robots(), std::vector<RobotId>{RobotId(0)});
+
+  // Updating keeps edges; the second add returns false.
+  Node moved = g.getNode(kPlace1);
+  moved.position = {5, 5, 5};
+  EXPECT_FALSE(g.addOrUpdateNode(moved));
+  EXPECT_EQ(g.getNode(kPlace1).position, Eigen::Vector3d(5, 5, 5));
+  EXPECT_TRUE(g.hasEdge(kPlace1, kPlace2));
+}
+
+TEST(SceneGraph, RejectsMisuse) {
+  SceneGraph g = smallGraph();
+  EXPECT_THROW(g.addOrUpdateNode(makeNode(kPlace1, Layer::kObjects)), std::invalid_argument);
+  EXPECT_THROW(g.addOrUpdateEdge(kPlace1, NodeId('p', 99)), std::invalid_argument);
+  EXPECT_THROW(g.addOrUpdateEdge(kPlace1, kPlace1), std::invalid_argument);
+  EXPECT_THROW(g.addOrUpdateEdge(kAgent0, kObject1), std::invalid_argument);  // same level
+  EXPECT_THROW((void)g.getNode(NodeId('p', 99)), std::out_of_range);
+  EXPECT_EQ(g.findNode(NodeId('p', 99)), nullptr);
+}
+
+// A node has one parent: a new parent edge replaces the old one.
+TEST(SceneGraph, SingleParent) {
+  SceneGraph g = smallGraph();
+  g.addOrUpdateEdge(kRoom2, kPlace1);
+  EXPECT_EQ(g.parent(kPlace1), kRoom2);
+  EXPECT_FALSE(g.hasEdge(kRoom, kPlace1));
+  EXPECT_TRUE(g.children(kRoom).empty());
+}
+
+TEST(SceneGraph, RemoveNodeTakesItsEdges) {
+  SceneGraph g = smallGraph();
+  EXPECT_TRUE(g.removeNode(kPlace1));
+  EXPECT_FALSE(g.removeNode(kPlace1));
+  EXPECT_EQ(g.numEdges(), 3u);
+  EXPECT_TRUE(g.neighbours(kPlace2).empty());
+  EXPECT_FALSE(g.parent(kObject1).has_value());
+  EXPECT_TRUE(g.removeEdge(kAgent0, kAgent1));
+  EXPECT_FALSE(g.removeEdge(kAgent0, kAgent1));
+}
+
+TEST(SceneGraph, CopyIsIndependent) {
+  SceneGraph g = smallGraph();
+  SceneGraph copy = g;
+  EXPECT_EQ(copy, g);
+  copy.removeNode(kPlace2);
+  EXPECT_NE(copy, g);
+  EXPECT_TRUE(g.hasNode(kPlace2));
+  EXPECT_TRUE(g.hasEdge(kPlace1, kPlace2));
+}
+
+// Merging moves edges and fuses attributes; undo restores the graph exactly.
+TEST(SceneGraph, MergeAndUndo) {
+  SceneGraph g = smallGraph();
+  Node o2 = makeNode(kObject2, Layer::kObjects, {2, 1, 1});
+  o2.find<ObjectAttributes>()->mesh_vertices = {7, 3};
+  o2.find<ObjectAttributes>()->semantic.bounding_box = BoundingBox{{1, 1, 1}, {3, 3, 3}};
+  g.addOrUpdateNode(o2);
+  g.addOrUpdateEdge(kPlace2, kObject2);
+  Node o1 = g.getNode(kObject1);
+  o1.find<ObjectAttributes>()->mesh_vertices = {3, 5};
+  o1.find<ObjectAttributes>()->semantic.bounding_box = BoundingBox{{0, 0, 0}, {2, 2, 2}};
+  g.addOrUpdateNode(o1);
+  const SceneGraph before = g;
+
+  const MergeRecord record = g.mergeNodes(kObject1, kObject2);
+  EXPECT_FALSE(g.hasNode(kObject2));
+  const Node& merged = g.getNode(kObject1);
+  EXPECT_EQ(merged.position, Eigen::Vector3d(1, 1, 1));
+  EXPECT_EQ(merged.find<ObjectAttributes>()->mesh_vertices, (std::vector<uint64_t>{3, 5, 7}));
+  EXPECT_EQ(merged.find<ObjectAttributes>()->semantic.bounding_box,
+            (BoundingBox{{0, 0, 0}, {3, 3, 3}}));
+  EXPECT_EQ(g.parent(kObject1), kPlace1);  // the target keeps its own parent
+
+  ASSERT_TRUE(g.undoMerge(record).ok());
+  EXPECT_EQ(g, before);
+  // Undoing twice fails: the source exists again.
+  EXPECT_FALSE(g.undoMerge(record).ok());
+}
+
+// The source's children move to the target, and go back on undo.
+TEST(SceneGraph, MergeMovesChildren) {
+  SceneGraph g = smallGraph();
+  const SceneGraph before = g;
+  const MergeRecord record = g.mergeNodes(kPlace1, kPlace2);
+  EXPECT_EQ(g.parent(kAgent1), kPlace1);
+  EXPECT_FALSE(g.hasEdge(kPlace1, kPlace2));
+  ASSERT_TRUE(g.undoMerge(record).ok());
+  EXPECT_EQ(g, before);
+  EXPECT_THROW(g.mergeNodes(kAgent0, kAgent1), std::invalid_argument);
+  EXPECT_THROW(g.mergeNodes(kPlace1, kObject1), std::invalid_argument);
+}
+
+TEST(GraphSummary, CountsPerLayerAndRobot) {
+  std::mt19937 rng(1);
+  const SceneGraph g = testing::makeRandomGraph(rng);
+  const GraphSummary s = summarize(g);
+  EXPECT_EQ(s.nodes, g.numNodes());
+  EXPECT_EQ(s.nodes_per_layer[static_cast<size_t>(Layer::kAgents)], 20u);
+  EXPECT_EQ(s.nodes_per_layer[static_cast<size_t>(Layer::kPlaces)], 30u);
+  EXPECT_EQ(s.robots.at(RobotId(0)).nodes_per_layer[0] + s.robots.at(RobotId(1)).nodes_per_layer[0],
+            20u);
+  size_t mesh_total = 0;
+  for (const auto& [robot, r] : s.robots) mesh_total += r.mesh_vertices;
+  EXPECT_EQ(mesh_total, 200u);
+}
+
+}  // namespace
+}  // namespace hydra_multi
