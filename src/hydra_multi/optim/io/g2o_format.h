@@ -1,0 +1,43 @@
+#pragma once
+// g2o and TORO pose-graph files.
+//
+//   VERTEX_SE3:QUAT id x y z qx qy qz qw
+//   EDGE_SE3:QUAT   i j x y z qx qy qz qw  I (21 values: upper triangle of the 6x6 information,
+//                                           row by row, translation first)
+//   VERTEX_SE2      id x y theta                          (lifted to 3D with z = 0)
+//   EDGE_SE2        i j dx dy dtheta I11 I12 I13 I22 I23 I33
+//   VERTEX3         id x y z roll pitch yaw               (TORO; R = Rz(yaw) Ry(pitch) Rx(roll))
+//   EDGE3           i j x y z roll pitch yaw I (21 values, same layout)
+//
+// Ids are kept as 64-bit keys (GTSAM symbols carry the robot's letter in the top byte). An SE(2)
+// edge's information on x, y, yaw goes to the matching entries of the 6x6 matrix; z, roll and
+// pitch, which 2D data does not measure, get the largest diagonal entry of the 2D information, so
+// lifted graphs stay planar. Other tags (FIX, PARAMS_SE3OFFSET, ...) are skipped and counted.
+
+#include <string>
+
+#include "hydra_multi/core/result.h"
+#include "hydra_multi/optim/pose_graph.h"
+
+namespace hydra_multi::io {
+
+struct G2oReadOptions {
+  /// Report a malformed line and go on, instead of failing on it.
+  bool skip_bad_lines = false;
+};
+
+struct G2oFile {
+  PoseGraph graph;
+  size_t skipped_lines = 0;           ///< unknown tags, and bad lines with skip_bad_lines
+  std::vector<std::string> warnings;  ///< one per bad line skipped, naming file and line
+};
+
+/// Parses g2o/TORO text; `name` is used in messages ("<name>:<line>: ...").
+Result<G2oFile> parseG2o(const std::string& text, const std::string& name,
+                         const G2oReadOptions& options = {});
+Result<G2oFile> readG2o(const std::string& path, const G2oReadOptions& options = {});
+
+/// g2o text: VERTEX_SE3:QUAT for every pose, EDGE_SE3:QUAT for every edge.
+std::string writeG2o(const PoseGraph& graph);
+
+}  // namespace hydra_multi::io

@@ -1,0 +1,115 @@
+#pragma once
+// Ceres residuals of a relative-pose edge between poses i and j, with parameter blocks
+// q_i, t_i, q_j, t_j (Eigen quaternion order x y z w on Ceres' EigenQuaternionManifold, and R^3).
+//
+// Chordal (the SE-Sync objective F of data/README.md, exactly):
+//   r = [ sqrt(tau)   * (t_j - t_i - R_i t_ij)            (3)
+//         sqrt(kappa) * vec(R_j - R_i R_ij) ]              (9)
+//   with Sigma = information^-1, tau = 3 / tr(Sigma_t), kappa = 3 / (2 tr(Sigma_R)).
+//   Ceres minimizes 1/2 sum ||r||^2 = F / 2.
+//
+// Geodesic (eq. (3) of the paper: ||T_i^-1 T_j boxminus E_ij||^2_Omega):
+//   E   = T_ij^-1 T_i^-1 T_j,  with R_E = R_ij^T R_i^T R_j and t_E = R_ij^T (R_i^T (t_j - t_i) -
+//   t_ij) e   = log(E) = [V(phi)^-1 t_E; phi],  phi = log(R_E)                  (core/se3.h
+//   derivation) r   = sqrt_info * e,  sqrt_info^T sqrt_info = information.
+
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "hydra_multi/core/se3.h"
+
+namespace hydra_multi {
+
+/// tau and kappa of an edge's information matrix (data/README.md).
+struct IsotropicWeights {
+  double kappa = 1.0;  ///< rotation
+  double tau = 1.0;    ///< translation
+};
+IsotropicWeights isotropicWeights(const Matrix6d& information);
+
+class ChordalResidual {
+ public:
+  ChordalResidual(const Eigen::Isometry3d& T_i_j, const IsotropicWeights& weights)
+      : R_ij_(T_i_j.linear()),
+        t_ij_(T_i_j.translation()),
+        sqrt_kappa_(std::sqrt(weights.kappa)),
+        sqrt_tau_(std::sqrt(weights.tau)) {}
+
+  template <typename T>
+  bool operator()(const T* q_i_ptr, const T* t_i_ptr, const T* q_j_ptr, const T* t_j_ptr,
+                  T* residual_ptr) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q_i(q_i_ptr), q_j(q_j_ptr);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t_i(t_i_ptr), t_j(t_j_ptr);
+    const Eigen::Matrix<T, 3, 3> R_i = q_i.toRotationMatrix();
+    const Eigen::Matrix<T, 3, 3> R_j = q_j.toRotationMatrix();
+    Eigen::Map<Eigen::Matrix<T, 12, 1>> r(residual_ptr);
+    r.template head<3>() = T(sqrt_tau_) * (t_j - t_i - R_i * t_ij_.cast<T>());
+    const Eigen::Matrix<T, 3, 3> dR = T(sqrt_kappa_) * (R_j - R_i * R_ij_.cast<T>());
+    r.template tail<9>() = Eigen::Map<const Eigen::Matrix<T, 9, 1>>(dR.data());
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const Eigen::Isometry3d& T_i_j,
+                                     const IsotropicWeights& weights) {
+    return new ceres::AutoDiffCostFunction<ChordalResidual, 12, 4, 3, 4, 3>(
+        new ChordalResidual(T_i_j, weights));
+  }
+
+ private:
+  Eigen::Matrix3d R_ij_;
+  Eigen::Vector3d t_ij_;
+  double sqrt_kappa_;
+  double sqrt_tau_;
+};
+
+class GeodesicResidual {
+ public:
+  GeodesicResidual(const Eigen::Isometry3d& T_i_j, const Matrix6d& information);
+
+  template <typename T>
+  bool operator()(const T* q_i_ptr, const T* t_i_ptr, const T* q_j_ptr, const T* t_j_ptr,
+                  T* residual_ptr) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q_i(q_i_ptr), q_j(q_j_ptr);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t_i(t_i_ptr), t_j(t_j_ptr);
+    const Eigen::Quaternion<T> q_ij_inv = q_ij_.conjugate().cast<T>();
+    // The error transform E = T_ij^-1 T_i^-1 T_j.
+    const Eigen::Quaternion<T> q_e = q_ij_inv * q_i.conjugate() * q_j;
+    const Eigen::Matrix<T, 3, 1> t_e = q_ij_inv * (q_i.conjugate() * (t_j - t_i) - t_ij_.cast<T>());
+    // phi = log(R_E), through Ceres' angle-axis conversion (w first).
+    const T q_wxyz[4] = {q_e.w(), q_e.x(), q_e.y(), q_e.z()};
+    Eigen::Matrix<T, 3, 1> phi;
+    ceres::QuaternionToAngleAxis(q_wxyz, phi.data());
+    // rho = V(phi)^-1 t_E = t_E - 1/2 phi x t_E + c phi x (phi x t_E).
+    const T theta_sq = phi.squaredNorm();
+    T c;
+    if (theta_sq < T(1e-8)) {
+      c = T(1.0 / 12.0) + theta_sq / T(720.0);
+    } else {
+      const T theta = ceres::sqrt(theta_sq);
+      const T half = T(0.5) * theta;
+      c = T(1.0) / theta_sq - ceres::cos(half) / (T(2.0) * theta * ceres::sin(half));
+    }
+    const Eigen::Matrix<T, 3, 1> phi_x_t = phi.cross(t_e);
+    Eigen::Matrix<T, 6, 1> e;
+    e.template head<3>() = t_e - T(0.5) * phi_x_t + c * phi.cross(phi_x_t);
+    e.template tail<3>() = phi;
+    Eigen::Map<Eigen::Matrix<T, 6, 1>> r(residual_ptr);
+    r = sqrt_info_.cast<T>() * e;
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const Eigen::Isometry3d& T_i_j, const Matrix6d& information) {
+    return new ceres::AutoDiffCostFunction<GeodesicResidual, 6, 4, 3, 4, 3>(
+        new GeodesicResidual(T_i_j, information));
+  }
+
+ private:
+  Eigen::Quaterniond q_ij_;
+  Eigen::Vector3d t_ij_;
+  Matrix6d sqrt_info_;
+};
+
+}  // namespace hydra_multi
