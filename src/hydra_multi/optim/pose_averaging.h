@@ -1,0 +1,42 @@
+#pragma once
+// Robust pose averaging, eq. (2) of the paper:
+//   X* = argmin_{X in SE(3)} sum_k rho_TLS( || X boxminus X_k ||_Sigma )
+// with X boxminus X_k = log(X^-1 X_k) and one fixed covariance Sigma. Used for the relative frame
+// of two robots from the per-loop-closure estimates of eq. (1):
+//   T_A_B,ij = T_A_ai * Z_ai_bj * (T_B_bj)^-1.
+// The weighted problem is solved by Gauss-Newton on SE(3); with one Sigma shared by all
+// measurements the step is the weighted mean of the tangent errors, delta = sum w_k e_k / sum w_k
+// (the Jacobian of log is taken as identity, exact at the solution of consistent measurements).
+// GNC (gnc.h) supplies the TLS weights.
+
+#include <vector>
+
+#include "hydra_multi/core/result.h"
+#include "hydra_multi/core/se3.h"
+#include "hydra_multi/optim/gnc.h"
+
+namespace hydra_multi {
+
+struct PoseAveragingOptions {
+  Matrix6d information = Matrix6d::Identity();  ///< Sigma^-1, order: translation, rotation
+  GncOptions gnc;
+  int max_gauss_newton_iterations = 50;
+};
+
+struct PoseAverage {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  std::vector<bool> inliers;
+  size_t num_inliers = 0;
+  GncResult gnc;
+};
+
+/// The weighted average (Gauss-Newton from `start`); fails when every weight is zero.
+Result<Eigen::Isometry3d> weightedPoseAverage(const std::vector<Eigen::Isometry3d>& estimates,
+                                              const std::vector<double>& weights,
+                                              const Eigen::Isometry3d& start, int max_iterations);
+
+/// eq. (2) with GNC-TLS; fails with no estimates.
+Result<PoseAverage> robustPoseAverage(const std::vector<Eigen::Isometry3d>& estimates,
+                                      const PoseAveragingOptions& options = {});
+
+}  // namespace hydra_multi
