@@ -3,7 +3,9 @@
 // command line, prints to stdout (results) and stderr (errors, progress), and returns the exit
 // code: 0 success, 1 failure.
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 namespace hydra_multi::apps {
 
@@ -18,6 +20,29 @@ struct ConvertOptions {
   std::string output;
 };
 int runConvert(const ConvertOptions& options);
+
+struct PgoOptions {
+  std::vector<std::string> inputs;
+  bool unknown_frames = false;        ///< each input file is a robot with an unknown frame
+  std::string residual = "geodesic";  ///< geodesic | chordal
+  std::string init = "chordal";       ///< odometry | chordal
+  std::string robust = "none";        ///< none | gnc
+  double outliers = 0.0;              ///< share of injected outliers among all loop closures
+  uint64_t seed = 0;
+  std::string inliers_xml;   ///< labels: 1-based edge numbers of the inlier loop closures
+  std::string inlier_edges;  ///< labels: a g2o file whose edges are the true loop closures
+  size_t min_inliers = 5;
+  std::string linear_solver = "auto";  ///< auto | cholesky | cg (for the GNC solves)         ///<
+                                       ///< k: inliers a robot pair needs to be aligned
+  std::string groundtruth;             ///< g2o/TORO file with the true poses (or edges to chain)
+  std::string output;                  ///< optimized graph as g2o
+  bool json = false;
+  bool skip_bad_lines = false;
+  double tolerance = 1e-4;  ///< relative cost change that ends a solve
+  int threads = 1;
+  bool quiet = false;  ///< no progress lines on stderr
+};
+int runPgo(const PgoOptions& options);
 
 /// Prints "hydra-multi: error: <message>" on stderr and returns 1.
 int fail(const std::string& message);

@@ -1,7 +1,9 @@
 // hydra-multi: the command line. It only parses options into the commands' option structs.
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <string>
+#include <thread>
 
 #include "hydra_multi/apps/commands.h"
 #include "hydra_multi/core/version.h"
@@ -33,8 +35,57 @@ int main(int argc, char** argv) {
   convert_cmd->add_option("output", convert.output, "output (.json, .spark.json, .dsgb, .ply)")
       ->required();
 
+  PgoOptions pgo;
+  pgo.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  CLI::App* pgo_cmd = app.add_subcommand(
+      "pgo", "Pose-graph optimization of g2o/TORO files (robust, multi-robot, evaluated)");
+  pgo_cmd
+      ->add_option("--input", pgo.inputs, "g2o/TORO file; repeat to merge (duplicates count once)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  pgo_cmd->add_flag("--unknown-frames", pgo.unknown_frames,
+                    "each input is a robot of unknown frame: align by robust pose averaging");
+  pgo_cmd->add_option("--residual", pgo.residual, "geodesic (SE(3) log) or chordal (SE-Sync cost)")
+      ->check(CLI::IsMember({"geodesic", "chordal"}))
+      ->capture_default_str();
+  pgo_cmd->add_option("--init", pgo.init, "odometry or chordal")
+      ->check(CLI::IsMember({"odometry", "chordal"}))
+      ->capture_default_str();
+  pgo_cmd->add_option("--robust", pgo.robust, "none or gnc (GNC-TLS over loop closures)")
+      ->check(CLI::IsMember({"none", "gnc"}))
+      ->capture_default_str();
+  pgo_cmd
+      ->add_option("--outliers", pgo.outliers, "inject outliers: their share of all loop closures")
+      ->check(CLI::Range(0.0, 0.99));
+  pgo_cmd->add_option("--seed", pgo.seed, "seed of the outlier injection")->capture_default_str();
+  pgo_cmd->add_option("--inliers-xml", pgo.inliers_xml, "gt_info.xml: 1-based inlier edge numbers")
+      ->check(CLI::ExistingFile);
+  pgo_cmd
+      ->add_option("--inlier-edges", pgo.inlier_edges,
+                   "labels: g2o file whose edges are the true loop closures")
+      ->check(CLI::ExistingFile);
+  pgo_cmd
+      ->add_option("--min-inliers", pgo.min_inliers,
+                   "k: inlier loop closures a robot pair needs to be aligned")
+      ->capture_default_str();
+  pgo_cmd
+      ->add_option("--linear-solver", pgo.linear_solver,
+                   "GNC solves: auto (Cholesky unless one iteration takes > 0.5 s), cholesky, cg")
+      ->check(CLI::IsMember({"auto", "cholesky", "cg"}))
+      ->capture_default_str();
+  pgo_cmd->add_option("--groundtruth", pgo.groundtruth, "true poses (g2o vertices or TORO edges)")
+      ->check(CLI::ExistingFile);
+  pgo_cmd->add_option("--output", pgo.output, "write the optimized graph (g2o)");
+  pgo_cmd->add_flag("--json", pgo.json, "print exactly one JSON object on stdout");
+  pgo_cmd->add_flag("--skip-bad-lines", pgo.skip_bad_lines, "report malformed lines and go on");
+  pgo_cmd->add_option("--tolerance", pgo.tolerance, "relative cost change that ends a solve")
+      ->capture_default_str();
+  pgo_cmd->add_option("--threads", pgo.threads, "solver threads")->capture_default_str();
+  pgo_cmd->add_flag("--quiet", pgo.quiet, "no progress lines on stderr");
+
   CLI11_PARSE(app, argc, argv);
   if (*info_cmd) return runInfo(info);
   if (*convert_cmd) return runConvert(convert);
+  if (*pgo_cmd) return runPgo(pgo);
   return 0;
 }

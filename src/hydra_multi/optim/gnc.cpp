@@ -65,11 +65,18 @@ double tlsWeight(double r2, double mu, double c2) {
   return std::sqrt(c2) * std::sqrt(mu * (mu + 1.0)) / std::sqrt(r2) - mu;
 }
 
-GncResult runGnc(size_t num_robust, const WeightedSolver& solve, const GncOptions& options) {
+GncResult runGnc(size_t num_robust, const WeightedSolver& solve, const GncOptions& options,
+                 const std::vector<double>* initial_squared_residuals) {
   const double c2 = options.thresholdSq();
   GncResult result;
   result.weights.assign(num_robust, 1.0);
-  WeightedSolution solution = solve(result.weights);
+  WeightedSolution solution;
+  if (initial_squared_residuals) {
+    solution.squared_residuals = *initial_squared_residuals;
+    for (const double r2 : solution.squared_residuals) solution.cost += r2;
+  } else {
+    solution = solve(result.weights);
+  }
   const double max_r2 =
       solution.squared_residuals.empty()
           ? 0.0

@@ -58,8 +58,12 @@ struct GncResult {
 /// The TLS weight of a factor with squared residual r2 at control parameter mu.
 double tlsWeight(double r2, double mu, double c2);
 
-/// Runs GNC over `num_robust` robust factors. The first call of `solve` uses unit weights (plain
-/// least squares), as GTSAM does.
-GncResult runGnc(size_t num_robust, const WeightedSolver& solve, const GncOptions& options = {});
+/// Runs GNC over `num_robust` robust factors. Without `initial_squared_residuals`, the first call
+/// of `solve` uses unit weights (plain least squares) and mu_0 and the first weights come from its
+/// solution, as in GTSAM. With them (the residuals at the initial estimate), GNC starts from the
+/// initial estimate instead: a least-squares solve over many gross outliers can throw away a good
+/// initial guess that GNC then never recovers (measured on CSAIL and sphere2500 with outliers).
+GncResult runGnc(size_t num_robust, const WeightedSolver& solve, const GncOptions& options = {},
+                 const std::vector<double>* initial_squared_residuals = nullptr);
 
 }  // namespace hydra_multi

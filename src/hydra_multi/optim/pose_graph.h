@@ -19,13 +19,19 @@ struct PoseGraph {
 };
 
 /// Marks the edges that are known inliers as odometry, the rest as loop closures. Known inliers
-/// are (a) edges between consecutive indices of one category (i, i+1), and (b) the longest prefix
-/// of the edge list that is acyclic: files such as grid1000 list a spanning tree first, whose
-/// edges do not join consecutive ids (data/README.md).
-void classifyEdges(PoseGraph& graph);
+/// are the edges between consecutive indices of one category (i, i+1). When those edges leave the
+/// graph in more than `max_odometry_components` pieces (files such as grid1000 list a spanning tree
+/// first, whose edges do not join consecutive ids; data/README.md), the longest acyclic prefix of
+/// the edge list counts as odometry too.
+void classifyEdges(PoseGraph& graph, size_t max_odometry_components = 1);
 
 /// The poses reached from `root` by composing odometry edges along a breadth-first spanning tree;
 /// poses the odometry does not reach are missing from the result.
 std::map<NodeId, Eigen::Isometry3d> odometryInitialization(const PoseGraph& graph, NodeId root);
+
+/// Like odometryInitialization, but a node the odometry does not reach is reached through loop
+/// closures too, with as few of them on its path as possible (0-1 breadth-first search: odometry
+/// costs 0, a loop closure 1). For robots whose own edges are not a chain (e.g. the grid3d data).
+std::map<NodeId, Eigen::Isometry3d> spanningInitialization(const PoseGraph& graph, NodeId root);
 
 }  // namespace hydra_multi

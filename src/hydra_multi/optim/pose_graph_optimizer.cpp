@@ -78,6 +78,12 @@ PoseGraphProblem::PoseGraphProblem(const PoseGraph& graph,
 
 PoseGraphProblem::~PoseGraphProblem() = default;
 
+void PoseGraphProblem::setOptions(const PoseGraphOptimizerOptions& options) {
+  impl_->options = options;
+}
+
+const PoseGraphOptimizerOptions& PoseGraphProblem::options() const { return impl_->options; }
+
 void PoseGraphProblem::setWeights(const std::vector<double>& weights) {
   for (size_t k = 0; k < impl_->edges.size() && k < weights.size(); ++k) {
     Impl::EdgeBlock& e = impl_->edges[k];
@@ -92,8 +98,15 @@ void PoseGraphProblem::setWeights(const std::vector<double>& weights) {
 
 SolveSummary PoseGraphProblem::solve() {
   ceres::Solver::Options options;
-  options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-  options.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+  if (impl_->options.linear_solver ==
+      PoseGraphOptimizerOptions::LinearSolver::kConjugateGradients) {
+    options.linear_solver_type = ceres::CGNR;
+    options.preconditioner_type = ceres::JACOBI;
+    options.max_linear_solver_iterations = impl_->options.max_linear_iterations;
+  } else {
+    options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+    options.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+  }
   options.max_num_iterations = impl_->options.max_iterations;
   options.function_tolerance = impl_->options.function_tolerance;
   options.gradient_tolerance = impl_->options.gradient_tolerance;

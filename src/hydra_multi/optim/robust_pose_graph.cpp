@@ -3,6 +3,11 @@
 #include <chrono>
 
 namespace hydra_multi {
+namespace {
+
+std::string seconds(double s) { return std::to_string(s) + " s"; }
+
+}  // namespace
 
 RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
                                   const std::map<NodeId, Eigen::Isometry3d>& initial, NodeId anchor,
@@ -18,11 +23,34 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
       robust_edges.push_back(k);
     }
   }
+
+  // The first GNC solve decides the linear solver: one timed Cholesky iteration (see options).
+  bool conjugate_gradients = false;
+  const auto chooseLinearSolver = [&]() {
+    PoseGraphOptimizerOptions probe = options.solver;
+    probe.max_iterations = 1;
+    problem.setOptions(probe);
+    const SolveSummary summary = problem.solve();
+    result.solver_iterations += summary.iterations;
+    conjugate_gradients = summary.time_s > options.cholesky_seconds_per_iteration_limit;
+    PoseGraphOptimizerOptions inner = options.solver;
+    if (conjugate_gradients) {
+      inner.linear_solver = PoseGraphOptimizerOptions::LinearSolver::kConjugateGradients;
+    }
+    problem.setOptions(inner);
+    if (options.progress) {
+      options.progress("one Cholesky iteration took " + seconds(summary.time_s) + ": " +
+                       (conjugate_gradients ? "conjugate gradients" : "sparse Cholesky") +
+                       " for the GNC solves");
+    }
+  };
+
   std::vector<double> edge_weights(graph.edges.size(), 1.0);
   const auto solve = [&](const std::vector<double>& weights) {
     for (size_t r = 0; r < robust_edges.size(); ++r) edge_weights[robust_edges[r]] = weights[r];
     problem.setWeights(edge_weights);
     if (options.restart_from_initial) problem.resetToInitial();
+    if (options.robust && result.solves == 0) chooseLinearSolver();
     const SolveSummary summary = problem.solve();
     result.solver_iterations += summary.iterations;
     ++result.solves;
@@ -33,11 +61,26 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
     solution.cost = summary.final_cost;
     const std::vector<double> r2 = problem.squaredResiduals();
     for (const size_t k : robust_edges) solution.squared_residuals.push_back(r2[k]);
+    if (options.progress) {
+      size_t kept = 0;
+      for (const double w : weights) kept += w > 0.5 ? 1 : 0;
+      options.progress("solve " + std::to_string(result.solves) + ": " +
+                       std::to_string(summary.iterations) + " iterations in " +
+                       seconds(summary.time_s) + ", cost " + std::to_string(summary.final_cost) +
+                       ", " + std::to_string(kept) + " of " + std::to_string(weights.size()) +
+                       " loop closures weighted > 0.5");
+    }
     return solution;
   };
 
   if (options.robust) {
-    result.gnc = runGnc(robust_edges.size(), solve, options.gnc);
+    std::vector<double> initial_r2;
+    if (options.gnc_from_initial_estimate) {
+      const std::vector<double> r2 = problem.squaredResiduals();
+      for (const size_t k : robust_edges) initial_r2.push_back(r2[k]);
+    }
+    result.gnc = runGnc(robust_edges.size(), solve, options.gnc,
+                        options.gnc_from_initial_estimate ? &initial_r2 : nullptr);
   } else {
     solve(std::vector<double>(robust_edges.size(), 1.0));
   }
@@ -46,6 +89,54 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
   result.edge_inlier.assign(graph.edges.size(), true);
   for (size_t r = 0; r < robust_edges.size() && options.robust; ++r) {
     result.edge_inlier[robust_edges[r]] = result.gnc.inliers[r];
+  }
+
+  if (options.robust && (conjugate_gradients || options.readmit_consistent)) {
+    // Polish: the exact optimum over the inliers with the configured (sparse) solver; then take
+    // back rejected loop closures that fit it, and repeat until none does.
+    const double c2 = options.gnc.thresholdSq();
+    for (int round = 0; round < 10; ++round) {
+      PoseGraph inliers;
+      for (size_t k = 0; k < graph.edges.size(); ++k) {
+        if (result.edge_inlier[k]) inliers.edges.push_back(graph.edges[k]);
+      }
+      PoseGraphProblem polish(inliers, result.poses, anchor, options.solver);
+      const SolveSummary summary = polish.solve();
+      result.solver_iterations += summary.iterations;
+      ++result.solves;
+      result.final_cost = summary.final_cost;
+      result.usable = summary.usable;
+      result.message = summary.message;
+      result.poses = polish.poses();
+
+      size_t readmitted = 0;
+      if (options.readmit_consistent) {
+        PoseGraph rejected;
+        std::vector<size_t> index;
+        for (const size_t k : robust_edges) {
+          if (!result.edge_inlier[k]) {
+            rejected.edges.push_back(graph.edges[k]);
+            index.push_back(k);
+          }
+        }
+        const std::vector<double> r2 =
+            PoseGraphProblem(rejected, result.poses, anchor, options.solver).squaredResiduals();
+        for (size_t i = 0; i < index.size(); ++i) {
+          if (r2[i] <= c2) {
+            result.edge_inlier[index[i]] = true;
+            result.edge_weight[index[i]] = 1.0;
+            ++readmitted;
+          }
+        }
+      }
+      if (options.progress) {
+        options.progress("solve over the " + std::to_string(inliers.edges.size()) +
+                         " inlier edges: " + std::to_string(summary.iterations) +
+                         " iterations in " + seconds(summary.time_s) + "; " +
+                         std::to_string(readmitted) + " rejected loop closures fit it again");
+      }
+      if (readmitted == 0) break;
+    }
   }
   result.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cmath>
 #include <iomanip>
+#include <set>
 #include <sstream>
 
 #include "hydra_multi/dsg/io/graph_file.h"
@@ -184,6 +185,50 @@ Result<G2oFile> readG2o(const std::string& path, const G2oReadOptions& options) 
   auto text = readFile(path);
   if (!text) return Error{text.error()};
   return parseG2o(text.value(), path, options);
+}
+
+Result<MergedG2o> readAndMergeG2o(const std::vector<std::string>& paths,
+                                  const G2oReadOptions& options) {
+  MergedG2o merged;
+  std::set<std::pair<NodeId, NodeId>> earlier_edges;
+  for (size_t f = 0; f < paths.size(); ++f) {
+    auto file = readG2o(paths[f], options);
+    if (!file) return Error{file.error()};
+    const PoseGraph& g = file.value().graph;
+    merged.warnings.insert(merged.warnings.end(), file.value().warnings.begin(),
+                           file.value().warnings.end());
+    for (const auto& [id, T] : g.poses) {
+      merged.graph.poses.emplace(id, T);
+      merged.node_owner.emplace(id, f);
+    }
+    std::set<std::pair<NodeId, NodeId>> this_file;
+    for (const PoseGraphEdge& edge : g.edges) {
+      const auto key = std::minmax(edge.from, edge.to);
+      if (earlier_edges.count(key)) {
+        ++merged.duplicate_edges;
+        continue;
+      }
+      this_file.insert(key);
+      merged.graph.edges.push_back(edge);
+      merged.edge_file.push_back(f);
+      const bool step =
+          edge.from.category() == edge.to.category() &&
+          (edge.from.index() + 1 == edge.to.index() || edge.to.index() + 1 == edge.from.index());
+      if (step) {
+        merged.node_owner.emplace(edge.from, f);
+        merged.node_owner.emplace(edge.to, f);
+      }
+    }
+    earlier_edges.insert(this_file.begin(), this_file.end());
+  }
+  classifyEdges(merged.graph, std::max<size_t>(1, paths.size()));
+  for (PoseGraphEdge& edge : merged.graph.edges) {
+    const auto a = merged.node_owner.find(edge.from), b = merged.node_owner.find(edge.to);
+    if (a != merged.node_owner.end() && b != merged.node_owner.end() && a->second != b->second) {
+      edge.kind = PoseGraphEdge::Kind::kLoopClosure;
+    }
+  }
+  return merged;
 }
 
 std::string writeG2o(const PoseGraph& graph) {

@@ -15,6 +15,7 @@
 // lifted graphs stay planar. Other tags (FIX, PARAMS_SE3OFFSET, ...) are skipped and counted.
 
 #include <string>
+#include <unordered_map>
 
 #include "hydra_multi/core/result.h"
 #include "hydra_multi/optim/pose_graph.h"
@@ -36,6 +37,23 @@ struct G2oFile {
 Result<G2oFile> parseG2o(const std::string& text, const std::string& name,
                          const G2oReadOptions& options = {});
 Result<G2oFile> readG2o(const std::string& path, const G2oReadOptions& options = {});
+
+/// Several files merged into one graph, e.g. one file per robot plus a file of loop closures.
+struct MergedG2o {
+  PoseGraph graph;
+  std::vector<size_t> edge_file;                  ///< the file each edge came from
+  std::unordered_map<NodeId, size_t> node_owner;  ///< the file that owns each node (see below)
+  size_t duplicate_edges = 0;                     ///< edges an earlier file already gave
+  std::vector<std::string> warnings;
+};
+
+/// Reads and merges files. Poses: the first file that gives one wins. An edge between the same
+/// two nodes as an edge of an earlier file counts once. A node is owned by the first file that
+/// gives its vertex or an edge from it to a consecutive id. Edges are classified (classifyEdges,
+/// at most one odometry piece per file), and an edge between nodes of different owners is always
+/// a loop closure.
+Result<MergedG2o> readAndMergeG2o(const std::vector<std::string>& paths,
+                                  const G2oReadOptions& options = {});
 
 /// g2o text: VERTEX_SE3:QUAT for every pose, EDGE_SE3:QUAT for every edge.
 std::string writeG2o(const PoseGraph& graph);

@@ -1,0 +1,78 @@
+#include "hydra_multi/eval/trajectory_error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <numeric>
+#include <sstream>
+
+namespace hydra_multi {
+
+ErrorStatistics errorStatistics(std::vector<double> errors) {
+  ErrorStatistics s;
+  s.count = errors.size();
+  if (errors.empty()) return s;
+  std::sort(errors.begin(), errors.end());
+  const double n = static_cast<double>(errors.size());
+  const double sum = std::accumulate(errors.begin(), errors.end(), 0.0);
+  double sum_sq = 0.0;
+  for (const double e : errors) sum_sq += e * e;
+  s.mean = sum / n;
+  s.rmse = std::sqrt(sum_sq / n);
+  s.std = std::sqrt(std::max(0.0, sum_sq / n - s.mean * s.mean));
+  s.min = errors.front();
+  s.max = errors.back();
+  const size_t mid = errors.size() / 2;
+  s.median = errors.size() % 2 == 1 ? errors[mid] : 0.5 * (errors[mid - 1] + errors[mid]);
+  return s;
+}
+
+Result<TrajectoryError> absoluteTrajectoryError(const std::vector<Eigen::Vector3d>& estimate,
+                                                const std::vector<Eigen::Vector3d>& reference,
+                                                bool align) {
+  if (estimate.size() != reference.size()) {
+    return Error{"ATE: " + std::to_string(estimate.size()) + " estimated positions but " +
+                 std::to_string(reference.size()) + " reference positions"};
+  }
+  if (estimate.size() < 3) return Error{"ATE: fewer than 3 positions"};
+  TrajectoryError result;
+  if (align) {
+    Eigen::Matrix3Xd src(3, estimate.size()), dst(3, reference.size());
+    for (size_t i = 0; i < estimate.size(); ++i) {
+      src.col(static_cast<long>(i)) = estimate[i];
+      dst.col(static_cast<long>(i)) = reference[i];
+    }
+    const auto alignment = umeyamaAlignment(src, dst, false);
+    if (!alignment) return Error{"ATE: the positions are degenerate (collinear) for alignment"};
+    result.T_reference_estimate = alignment->T_dst_src;
+  }
+  std::vector<double> errors(estimate.size());
+  for (size_t i = 0; i < estimate.size(); ++i) {
+    errors[i] = (result.T_reference_estimate * estimate[i] - reference[i]).norm();
+  }
+  result.statistics = errorStatistics(std::move(errors));
+  return result;
+}
+
+Result<std::vector<Eigen::Vector3d>> readKittiPositions(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return Error{path + ": cannot open"};
+  std::vector<Eigen::Vector3d> positions;
+  std::string line;
+  size_t line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    std::istringstream fields(line);
+    double m[12];
+    for (double& v : m) {
+      if (!(fields >> v) || !std::isfinite(v)) {
+        return Error{path + ":" + std::to_string(line_number) + ": expected 12 finite numbers"};
+      }
+    }
+    positions.emplace_back(m[3], m[7], m[11]);
+  }
+  return positions;
+}
+
+}  // namespace hydra_multi
