@@ -9,7 +9,7 @@ DATA ?= ../shared/data
 
 CMAKE_FLAGS = -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DHYDRA_MULTI_WERROR=$(WERROR)
 
-.PHONY: all deps build test test-sanitize demo format clean
+.PHONY: all deps build test test-sanitize demo bench format clean
 
 all: build
 
@@ -31,6 +31,12 @@ test-sanitize: deps
 	@cmake --build build-sanitize -j $(JOBS) -- --no-print-directory
 	@cd build-sanitize && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
 	  ctest --output-on-failure -j $(JOBS)
+
+# Benchmarks print time and accuracy figures (always Release).
+bench: deps
+	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release -DHYDRA_MULTI_WERROR=$(WERROR) > /dev/null
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target bench_pgo -- --no-print-directory
+	@$(BUILD_DIR)/bench/bench_pgo $(DATA)
 
 demo: build
 	@./scripts/demo.sh $(BUILD_DIR)/hydra-multi $(DATA) $(DEMO_OUT)

@@ -32,10 +32,12 @@ struct PgoOptions {
   std::string inliers_xml;   ///< labels: 1-based edge numbers of the inlier loop closures
   std::string inlier_edges;  ///< labels: a g2o file whose edges are the true loop closures
   size_t min_inliers = 5;
-  std::string linear_solver = "auto";  ///< auto | cholesky | cg (for the GNC solves)         ///<
-                                       ///< k: inliers a robot pair needs to be aligned
-  std::string groundtruth;             ///< g2o/TORO file with the true poses (or edges to chain)
-  std::string output;                  ///< optimized graph as g2o
+  std::string linear_solver = "auto";
+  int gnc_inner_iterations =
+      3;  ///< LM iterations per GNC solve (0: up to 100)  ///< auto | cholesky | cg (for the GNC
+          ///< solves)         ///< k: inliers a robot pair needs to be aligned
+  std::string groundtruth;  ///< g2o/TORO file with the true poses (or edges to chain)
+  std::string output;       ///< optimized graph as g2o
   bool json = false;
   bool skip_bad_lines = false;
   double tolerance = 1e-4;  ///< relative cost change that ends a solve

@@ -73,6 +73,10 @@ int main(int argc, char** argv) {
                    "GNC solves: auto (Cholesky unless one iteration takes > 0.5 s), cholesky, cg")
       ->check(CLI::IsMember({"auto", "cholesky", "cg"}))
       ->capture_default_str();
+  pgo_cmd
+      ->add_option("--gnc-inner-iterations", pgo.gnc_inner_iterations,
+                   "Levenberg-Marquardt iterations per GNC solve (0: up to 100)")
+      ->capture_default_str();
   pgo_cmd->add_option("--groundtruth", pgo.groundtruth, "true poses (g2o vertices or TORO edges)")
       ->check(CLI::ExistingFile);
   pgo_cmd->add_option("--output", pgo.output, "write the optimized graph (g2o)");

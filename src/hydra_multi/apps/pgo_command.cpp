@@ -230,6 +230,7 @@ int runPgo(const PgoOptions& o) {
       o.residual == "chordal" ? ResidualType::kChordal : ResidualType::kGeodesic;
   options.solver.function_tolerance = o.tolerance;
   options.solver.num_threads = o.threads;
+  options.gnc_inner_iterations = o.gnc_inner_iterations;
   if (o.linear_solver == "cg") options.cholesky_seconds_per_iteration_limit = 0.0;
   if (o.linear_solver == "cholesky") options.cholesky_seconds_per_iteration_limit = 1e300;
   if (!o.quiet)

@@ -34,6 +34,7 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
     result.solver_iterations += summary.iterations;
     conjugate_gradients = summary.time_s > options.cholesky_seconds_per_iteration_limit;
     PoseGraphOptimizerOptions inner = options.solver;
+    if (options.gnc_inner_iterations > 0) inner.max_iterations = options.gnc_inner_iterations;
     if (conjugate_gradients) {
       inner.linear_solver = PoseGraphOptimizerOptions::LinearSolver::kConjugateGradients;
     }

@@ -30,6 +30,12 @@ struct RobustPgoOptions {
   /// the inlier threshold are taken back and the inliers re-solved, until nothing changes. GNC is
   /// local: on CSAIL it ended with 12 of 128 true closures rejected that all fit its own solution.
   bool readmit_consistent = true;
+  /// Levenberg-Marquardt iterations of each GNC solve (0: solver.max_iterations). GNC re-weights
+  /// after every solve, so inner solves need not converge, and short ones keep GNC near a good
+  /// initial estimate while the loop-closure weights are still small. Measured on CSAIL with 250
+  /// spurious closures: 3 iterations, recall 1.0 in 5 s; 10 or 100, recall 0.906 in 11-15 s;
+  /// grid1000 classifies the same either way.
+  int gnc_inner_iterations = 3;
   /// GNC's first weights from the residuals at the initial estimate instead of a least-squares
   /// solve over every loop closure (see runGnc).
   bool gnc_from_initial_estimate = true;
