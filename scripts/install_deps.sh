@@ -9,7 +9,6 @@ packages=(
   nlohmann-json3-dev   # dsg/io: JSON and Spark-DSG JSON
   libcli11-dev         # apps: command line
   libceres-dev libsuitesparse-dev  # optim: pose-graph optimization, sparse Cholesky
-  libbenchmark-dev     # benchmarks
   libgtest-dev libgmock-dev  # tests
 )
 
