@@ -9,7 +9,7 @@ DATA ?= ../shared/data
 
 CMAKE_FLAGS = -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DHYDRA_MULTI_WERROR=$(WERROR)
 
-.PHONY: all deps build test test-sanitize demo bench format clean
+.PHONY: all deps build test test-sanitize demo bench bench-robust format clean
 
 all: build
 
@@ -37,6 +37,10 @@ bench: deps
 	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release -DHYDRA_MULTI_WERROR=$(WERROR) > /dev/null
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target bench_pgo -- --no-print-directory
 	@$(BUILD_DIR)/bench/bench_pgo $(DATA)
+
+# Robust estimation on real data and injected outliers (several minutes).
+bench-robust: build
+	@./scripts/bench_robust.sh $(BUILD_DIR)/hydra-multi $(DATA)
 
 demo: build
 	@./scripts/demo.sh $(BUILD_DIR)/hydra-multi $(DATA) $(DEMO_OUT)
