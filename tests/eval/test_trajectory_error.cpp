@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <random>
 
 #include "hydra_multi/eval/trajectory_error.h"
@@ -44,6 +45,42 @@ TEST(TrajectoryError, AlignmentRemovesRigidMotion) {
   ASSERT_TRUE(raw.ok());
   EXPECT_GT(raw.value().statistics.rmse, 1.0);
   EXPECT_FALSE(absoluteTrajectoryError(moved, {reference.begin(), reference.end() - 1}).ok());
+}
+
+// Association pairs each estimate with its nearest unused reference stamp within the limit.
+TEST(TrajectoryError, AssociatesByNearestStamp) {
+  const std::vector<double> est = {0.0, 1.0, 2.004, 3.5, 4.0};
+  const std::vector<double> ref = {0.001, 0.998, 1.003, 2.0, 4.02};
+  const auto pairs = associateByTime(est, ref, 0.01);
+  const std::vector<std::pair<size_t, size_t>> expected = {{0, 0}, {1, 1}, {2, 3}};
+  EXPECT_EQ(pairs, expected);
+  EXPECT_EQ(associateByTime(est, ref, 0.05).size(), 4u);  // 4.0 - 4.02 now counts
+  EXPECT_TRUE(associateByTime({}, ref, 1.0).empty());
+}
+
+// TUM files: comments skipped, eight numbers per line, increasing stamps; errors name the line.
+TEST(TrajectoryError, ReadsTumFiles) {
+  const std::string path = ::testing::TempDir() + "traj.tum";
+  {
+    std::ofstream out(path);
+    out << "# timestamp tx ty tz qx qy qz qw\n1.0 1 2 3 0 0 0 1\n2.0 4 5 6 0 0 0 1\n";
+  }
+  auto t = readTumTrajectory(path);
+  ASSERT_TRUE(t.ok()) << t.error();
+  EXPECT_EQ(t.value().stamps, (std::vector<double>{1.0, 2.0}));
+  EXPECT_EQ(t.value().positions[1], Eigen::Vector3d(4, 5, 6));
+  {
+    std::ofstream out(path);
+    out << "1.0 1 2 3 0 0 0 1\n0.5 4 5 6 0 0 0 1\n";
+  }
+  EXPECT_NE(readTumTrajectory(path).error().find(":2: timestamps must increase"),
+            std::string::npos);
+  {
+    std::ofstream out(path);
+    out << "1.0 1 2 3 0 0 0\n";
+  }
+  EXPECT_NE(readTumTrajectory(path).error().find(":1: expected 8 finite numbers"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -46,6 +46,15 @@ struct PgoOptions {
 };
 int runPgo(const PgoOptions& options);
 
+struct AteOptions {
+  std::string estimate;
+  std::string reference;
+  std::string format = "kitti";       ///< kitti | tum
+  double max_time_difference = 0.01;  ///< TUM association (s)
+  bool json = false;
+};
+int runAte(const AteOptions& options);
+
 /// Prints "hydra-multi: error: <message>" on stderr and returns 1.
 int fail(const std::string& message);
 

@@ -87,9 +87,28 @@ int main(int argc, char** argv) {
   pgo_cmd->add_option("--threads", pgo.threads, "solver threads")->capture_default_str();
   pgo_cmd->add_flag("--quiet", pgo.quiet, "no progress lines on stderr");
 
+  AteOptions ate;
+  CLI::App* ate_cmd = app.add_subcommand(
+      "ate", "Absolute trajectory error after SE(3) alignment (KITTI or TUM trajectories)");
+  ate_cmd->add_option("--est", ate.estimate, "estimated trajectory")
+      ->required()
+      ->check(CLI::ExistingFile);
+  ate_cmd->add_option("--gt", ate.reference, "reference trajectory")
+      ->required()
+      ->check(CLI::ExistingFile);
+  ate_cmd->add_option("--format", ate.format, "kitti (pose per line) or tum (associated by time)")
+      ->check(CLI::IsMember({"kitti", "tum"}))
+      ->capture_default_str();
+  ate_cmd
+      ->add_option("--max-time-difference", ate.max_time_difference,
+                   "TUM: largest stamp difference of an associated pair (s)")
+      ->capture_default_str();
+  ate_cmd->add_flag("--json", ate.json, "print exactly one JSON object on stdout");
+
   CLI11_PARSE(app, argc, argv);
   if (*info_cmd) return runInfo(info);
   if (*convert_cmd) return runConvert(convert);
   if (*pgo_cmd) return runPgo(pgo);
+  if (*ate_cmd) return runAte(ate);
   return 0;
 }

@@ -75,4 +75,50 @@ Result<std::vector<Eigen::Vector3d>> readKittiPositions(const std::string& path)
   return positions;
 }
 
+Result<StampedPositions> readTumTrajectory(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return Error{path + ": cannot open"};
+  StampedPositions trajectory;
+  std::string line;
+  size_t line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    const size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    std::istringstream fields(line);
+    double v[8];
+    for (double& x : v) {
+      if (!(fields >> x) || !std::isfinite(x)) {
+        return Error{path + ":" + std::to_string(line_number) +
+                     ": expected 8 finite numbers (t tx ty tz qx qy qz qw)"};
+      }
+    }
+    if (!trajectory.stamps.empty() && v[0] <= trajectory.stamps.back()) {
+      return Error{path + ":" + std::to_string(line_number) + ": timestamps must increase"};
+    }
+    trajectory.stamps.push_back(v[0]);
+    trajectory.positions.emplace_back(v[1], v[2], v[3]);
+  }
+  return trajectory;
+}
+
+std::vector<std::pair<size_t, size_t>> associateByTime(const std::vector<double>& estimate,
+                                                       const std::vector<double>& reference,
+                                                       double max_difference) {
+  std::vector<std::pair<size_t, size_t>> pairs;
+  size_t j = 0;
+  for (size_t i = 0; i < estimate.size(); ++i) {
+    // Both lists increase: advance to the nearest reference stamp not used yet.
+    while (j + 1 < reference.size() &&
+           std::abs(reference[j + 1] - estimate[i]) < std::abs(reference[j] - estimate[i])) {
+      ++j;
+    }
+    if (j < reference.size() && std::abs(reference[j] - estimate[i]) <= max_difference) {
+      pairs.emplace_back(i, j);
+      ++j;
+    }
+  }
+  return pairs;
+}
+
 }  // namespace hydra_multi

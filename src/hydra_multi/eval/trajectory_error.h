@@ -35,4 +35,18 @@ Result<TrajectoryError> absoluteTrajectoryError(const std::vector<Eigen::Vector3
 /// The positions of a KITTI pose file (one 3x4 row-major matrix per line).
 Result<std::vector<Eigen::Vector3d>> readKittiPositions(const std::string& path);
 
+/// A trajectory with timestamps (TUM format: "t tx ty tz qx qy qz qw" per line; '#' comments).
+struct StampedPositions {
+  std::vector<double> stamps;
+  std::vector<Eigen::Vector3d> positions;
+};
+Result<StampedPositions> readTumTrajectory(const std::string& path);
+
+/// Pairs of indices (estimate, reference) whose stamps differ by at most `max_difference`, each
+/// estimate with its nearest reference stamp (the earlier one on a tie), each reference used once,
+/// in time order.
+std::vector<std::pair<size_t, size_t>> associateByTime(const std::vector<double>& estimate,
+                                                       const std::vector<double>& reference,
+                                                       double max_difference);
+
 }  // namespace hydra_multi
