@@ -46,6 +46,15 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
     }
   };
 
+  // Every solve counts into the result's totals; the last one's report stays.
+  const auto record = [&result](const SolveSummary& summary) {
+    result.solver_iterations += summary.iterations;
+    ++result.solves;
+    result.final_cost = summary.final_cost;
+    result.usable = summary.usable;
+    result.message = summary.message;
+  };
+
   std::vector<double> edge_weights(graph.edges.size(), 1.0);
   const auto solve = [&](const std::vector<double>& weights) {
     for (size_t r = 0; r < robust_edges.size(); ++r) edge_weights[robust_edges[r]] = weights[r];
@@ -53,11 +62,7 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
     if (options.restart_from_initial) problem.resetToInitial();
     if (options.robust && result.solves == 0) chooseLinearSolver();
     const SolveSummary summary = problem.solve();
-    result.solver_iterations += summary.iterations;
-    ++result.solves;
-    result.final_cost = summary.final_cost;
-    result.usable = summary.usable;
-    result.message = summary.message;
+    record(summary);
     WeightedSolution solution;
     solution.cost = summary.final_cost;
     const std::vector<double> r2 = problem.squaredResiduals();
@@ -103,11 +108,7 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
       }
       PoseGraphProblem polish(inliers, result.poses, anchor, options.solver);
       const SolveSummary summary = polish.solve();
-      result.solver_iterations += summary.iterations;
-      ++result.solves;
-      result.final_cost = summary.final_cost;
-      result.usable = summary.usable;
-      result.message = summary.message;
+      record(summary);
       result.poses = polish.poses();
 
       size_t readmitted = 0;
