@@ -9,6 +9,7 @@ packages=(
   nlohmann-json3-dev   # dsg/io: JSON and Spark-DSG JSON
   libcli11-dev         # apps: command line
   libceres-dev libsuitesparse-dev  # optim: pose-graph optimization, sparse Cholesky
+  libnanoflann-dev     # core: KD-tree nearest neighbours
   libgtest-dev libgmock-dev  # tests
 )
 

@@ -312,8 +312,9 @@ int runPgo(const PgoOptions& o) {
   std::cout << "poses " << j["poses"] << ", edges " << j["edges"] << ", loop closures "
             << loop_closures << " (" << injected << " injected outliers)\n"
             << "robots " << robots_aligned << " of " << robots << " aligned\n"
-            << "cost " << j["cost"] << "; SE-Sync cost over every input edge, rejected ones included: "
-            << j["sesync_cost"] << "\n"
+            << "cost " << j["cost"]
+            << "; SE-Sync cost over every input edge, rejected ones included: " << j["sesync_cost"]
+            << "\n"
             << "iterations " << j["iterations"] << ", init " << init_time << " s, solve "
             << result.time_s << " s\n"
             << "rejected " << rejected.size() << " loop closures";
