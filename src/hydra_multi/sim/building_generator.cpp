@@ -1,0 +1,185 @@
+#include "hydra_multi/sim/building_generator.h"
+
+#include <cmath>
+#include <map>
+#include <random>
+
+namespace hydra_multi::sim {
+namespace {
+
+constexpr double kDoorClearance = 1.0;  ///< free depth inside a room behind its door (m)
+constexpr double kWallMargin = 0.1;     ///< free gap between furniture and walls (m)
+constexpr double kFurnitureGap = 0.15;  ///< free gap between pieces of furniture (m)
+
+// A piece of furniture in the room frame.
+struct Placement {
+  uint32_t label;
+  Eigen::Vector3d position;  // centre of the box; z of the box centre above the floor
+  double yaw;                // multiple of pi/2
+  Eigen::Vector3d size;
+};
+
+// What a room of a kind holds: labels, the first of a group stands on the floor and the rest
+// stand on top of it ("desk" then "monitor").
+std::vector<std::vector<uint32_t>> furnitureGroups(RoomKind kind) {
+  switch (kind) {
+    case RoomKind::kOffice:
+      return {{6, 13}, {5}, {10}, {12}, {19}, {17}};
+    case RoomKind::kStudentRoom:
+      return {{9}, {6, 14}, {5}, {11}, {10}};
+    case RoomKind::kKitchen:
+      return {{7}, {5}, {5}, {15}, {16}, {17}, {19}};
+    case RoomKind::kCorridor:
+      return {};
+  }
+  return {};
+}
+
+Rect footprintOf(const Eigen::Vector3d& position, double yaw, const Eigen::Vector3d& size) {
+  const bool turned = std::abs(std::sin(yaw)) > 0.5;
+  const Eigen::Vector2d half =
+      0.5 * (turned ? Eigen::Vector2d(size.y(), size.x()) : size.head<2>());
+  return {position.head<2>() - half, position.head<2>() + half};
+}
+
+// Samples a layout for a room of the given size (room frame: centre origin, y away from door).
+std::vector<Placement> sampleLayout(RoomKind kind, double width, double depth,
+                                    const std::vector<SemanticClass>& classes,
+                                    std::mt19937_64& rng) {
+  std::map<uint32_t, Eigen::Vector3d> sizes;
+  for (const SemanticClass& c : classes) sizes[c.label] = c.size;
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<Placement> layout;
+  std::vector<Rect> taken;
+  // The door zone: the full width of the room, kDoorClearance deep from the door wall.
+  taken.push_back({{-0.5 * width, -0.5 * depth}, {0.5 * width, -0.5 * depth + kDoorClearance}});
+  for (const auto& group : furnitureGroups(kind)) {
+    const Eigen::Vector3d size = sizes.at(group.front());
+    for (int attempt = 0; attempt < 200; ++attempt) {
+      const double yaw = 0.5 * M_PI * std::floor(4.0 * unit(rng));
+      const bool turned = std::abs(std::sin(yaw)) > 0.5;
+      const Eigen::Vector2d extent = turned ? Eigen::Vector2d(size.y(), size.x()) : size.head<2>();
+      const Eigen::Vector2d lo = Eigen::Vector2d(-0.5 * width, -0.5 * depth) + 0.5 * extent +
+                                 Eigen::Vector2d::Constant(kWallMargin);
+      const Eigen::Vector2d hi = Eigen::Vector2d(0.5 * width, 0.5 * depth) - 0.5 * extent -
+                                 Eigen::Vector2d::Constant(kWallMargin);
+      if ((hi.array() < lo.array()).any()) break;  // does not fit this room at all
+      const Eigen::Vector3d position(lo.x() + unit(rng) * (hi.x() - lo.x()),
+                                     lo.y() + unit(rng) * (hi.y() - lo.y()), 0.5 * size.z());
+      Rect footprint = footprintOf(position, yaw, size);
+      Rect padded{footprint.min.array() - kFurnitureGap, footprint.max.array() + kFurnitureGap};
+      bool free = true;
+      for (const Rect& other : taken) free = free && !padded.overlaps(other);
+      if (!free) continue;
+      taken.push_back(footprint);
+      layout.push_back({group.front(), position, yaw, size});
+      // The rest of the group stands on top, centred.
+      double top = size.z();
+      for (size_t k = 1; k < group.size(); ++k) {
+        const Eigen::Vector3d on_top = sizes.at(group[k]);
+        layout.push_back({group[k],
+                          Eigen::Vector3d(position.x(), position.y(), top + 0.5 * on_top.z()), yaw,
+                          on_top});
+        top += on_top.z();
+      }
+      break;
+    }
+  }
+  return layout;
+}
+
+}  // namespace
+
+Status BuildingOptions::validate() const {
+  if (floors < 1 || floors > 20) return Error{"floors must be 1 to 20"};
+  if (rooms_per_side < 1 || rooms_per_side > 200) return Error{"rooms_per_side must be 1 to 200"};
+  if (!(room_width >= 2.5 && room_width <= 30)) return Error{"room_width must be 2.5 to 30 m"};
+  if (!(room_depth >= 2.5 && room_depth <= 30)) return Error{"room_depth must be 2.5 to 30 m"};
+  if (!(corridor_width >= 1.0 && corridor_width <= 10))
+    return Error{"corridor_width must be 1 to 10 m"};
+  if (!(wall_thickness > 0 && wall_thickness <= 0.5))
+    return Error{"wall_thickness must be in (0, 0.5] m"};
+  if (!(floor_height >= 2.2 && floor_height <= 10))
+    return Error{"floor_height must be 2.2 to 10 m"};
+  if (room_kind == RoomKind::kCorridor) return Error{"room_kind cannot be corridor"};
+  if (kitchen_every < 0) return Error{"kitchen_every must be >= 0"};
+  return Status::Ok();
+}
+
+Result<World> generateBuilding(const BuildingOptions& options) {
+  if (Status status = options.validate(); !status) return Error{"building: " + status.message()};
+  World world;
+  world.classes = defaultSemanticClasses();
+  std::mt19937_64 rng(options.seed);
+  const double w = options.room_width, d = options.room_depth, t = options.wall_thickness;
+  const double cw = options.corridor_width;
+  const double length = options.rooms_per_side * (w + t) - t;
+  std::map<RoomKind, std::vector<Placement>> shared_layouts;
+
+  for (int f = 0; f < options.floors; ++f) {
+    world.floors.push_back({f, f * (options.floor_height + 0.3), options.floor_height});
+    Room corridor;
+    corridor.id = static_cast<int>(world.rooms.size());
+    corridor.kind = RoomKind::kCorridor;
+    corridor.floor = f;
+    corridor.footprint = {{0.0, 0.0}, {length, cw}};
+    world.rooms.push_back(corridor);
+    for (int side = 0; side < 2; ++side) {
+      for (int i = 0; i < options.rooms_per_side; ++i) {
+        Room room;
+        room.id = static_cast<int>(world.rooms.size());
+        room.floor = f;
+        const int number = side * options.rooms_per_side + i;
+        room.kind = (options.kitchen_every > 0 &&
+                     number % options.kitchen_every == options.kitchen_every - 1)
+                        ? RoomKind::kKitchen
+                        : options.room_kind;
+        const double x0 = i * (w + t);
+        room.faces_positive_y = side == 0;  // side 0 lies below the corridor, its door faces +y
+        room.footprint =
+            side == 0 ? Rect{{x0, -t - d}, {x0 + w, -t}} : Rect{{x0, cw + t}, {x0 + w, cw + t + d}};
+        world.doors.push_back(
+            {corridor.id, room.id, f, {x0 + 0.5 * w, side == 0 ? -0.5 * t : cw + 0.5 * t}, 0.9});
+        // Furniture: sampled per room, or once per kind when rooms are identical.
+        std::vector<Placement> layout;
+        if (options.identical_rooms) {
+          auto it = shared_layouts.find(room.kind);
+          if (it == shared_layouts.end()) {
+            it =
+                shared_layouts.emplace(room.kind, sampleLayout(room.kind, w, d, world.classes, rng))
+                    .first;
+          }
+          layout = it->second;
+          room.layout = static_cast<int>(room.kind);
+        } else {
+          layout = sampleLayout(room.kind, w, d, world.classes, rng);
+        }
+        world.rooms.push_back(room);
+        // Room frame: centre of the footprint, y away from the door (so rotated by pi for the
+        // rooms above the corridor, whose door faces -y).
+        Eigen::Isometry3d T_world_room = Eigen::Isometry3d::Identity();
+        T_world_room.translation() << room.footprint.center().x(), room.footprint.center().y(),
+            world.floors.back().z;
+        if (side == 1)
+          T_world_room.linear() =
+              Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+        for (const Placement& p : layout) {
+          ObjectInstance object;
+          object.id = static_cast<int>(world.objects.size());
+          object.label = p.label;
+          object.room = room.id;
+          object.size = p.size;
+          Eigen::Isometry3d T_room_object = Eigen::Isometry3d::Identity();
+          T_room_object.translation() = p.position;
+          T_room_object.linear() =
+              Eigen::AngleAxisd(p.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+          object.T_world_object = T_world_room * T_room_object;
+          world.objects.push_back(object);
+        }
+      }
+    }
+  }
+  return world;
+}
+
+}  // namespace hydra_multi::sim

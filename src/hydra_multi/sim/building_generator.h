@@ -1,0 +1,36 @@
+#pragma once
+// Procedural buildings: on every floor a straight corridor with rooms on both sides, one door per
+// room onto the corridor, and furniture by room kind. Furniture is placed in a room frame (origin
+// at the room's centre, x along the corridor, y away from the door) by rejection sampling without
+// overlaps and clear of the door, so rooms that share a layout are identical in that frame: the
+// perceptual aliasing of the paper's Simmons data.
+
+#include <cstdint>
+
+#include "hydra_multi/core/result.h"
+#include "hydra_multi/sim/world.h"
+
+namespace hydra_multi::sim {
+
+struct BuildingOptions {
+  int floors = 1;
+  int rooms_per_side = 6;
+  double room_width = 4.0;      ///< along the corridor (m)
+  double room_depth = 5.0;      ///< away from the corridor (m)
+  double corridor_width = 2.0;  ///< (m)
+  double wall_thickness = 0.15;
+  double floor_height = 3.0;  ///< floor to ceiling (m); floors are stacked with a 0.3 m slab
+  RoomKind room_kind = RoomKind::kOffice;
+  /// Every n-th room (n > 0) is a kitchen instead; 0: none.
+  int kitchen_every = 0;
+  /// One furniture layout for all rooms of the same kind (aliasing, like identical student rooms).
+  bool identical_rooms = false;
+  uint64_t seed = 1;
+
+  /// Checks the numbers; the message names the first bad one.
+  Status validate() const;
+};
+
+Result<World> generateBuilding(const BuildingOptions& options);
+
+}  // namespace hydra_multi::sim
