@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "hydra_multi/sim/building_generator.h"
@@ -31,7 +32,7 @@ Eigen::Isometry3d roomFrame(const World& world, const Room& room) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translation() << room.footprint.center().x(), room.footprint.center().y(),
       world.floors.at(static_cast<size_t>(room.floor)).z;
-  if (!room.faces_positive_y) {
+  if (room.faces_positive_y) {  // the door is on the +y wall: "away from the door" is -y
     T.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   }
   return T;
@@ -121,6 +122,13 @@ TEST(BuildingGenerator, FurnitureFitsItsRoom) {
       }();
       EXPECT_GE(local.min.y(), -0.5 * options.room_depth + 1.0 - 1e-9)
           << "object " << o.id << " blocks the door";
+      // The same in world terms, whatever the frame: the footprint keeps 1 m from its door.
+      for (const Door& door : world.doors) {
+        if (door.room_b != room.id) continue;
+        const double door_to_box =
+            std::max({f.min.y() - door.center.y(), door.center.y() - f.max.y(), 0.0});
+        EXPECT_GE(door_to_box, 1.0 - 1e-6) << "object " << o.id << " stands in front of its door";
+      }
     }
     // Objects on the floor do not overlap (stacked ones share their base's footprint).
     for (const ObjectInstance& a : world.objects) {

@@ -53,48 +53,52 @@ TEST(FreeSpace, MedialAxisOfARoom) {
 // In a generated building every room is reachable from the corridor through its door, furniture
 // is an obstacle, and the room voxels are the room's free cells.
 TEST(FreeSpace, DoorsConnectRoomsAndFurnitureBlocks) {
-  BuildingOptions options;
-  options.rooms_per_side = 4;
-  auto world = generateBuilding(options);
-  ASSERT_TRUE(world.ok()) << world.error();
-  const FreeSpace space = computeFreeSpace(world.value());
-  const FloorGrid& g = space.floors[0];
-  // Flood fill from the corridor's centre over free cells.
-  std::vector<uint8_t> reached(g.occupied.size(), 0);
-  const Eigen::Vector2i start = g.cellOf(world.value().room(0).footprint.center());
-  std::deque<Eigen::Vector2i> queue = {start};
-  reached[g.index(start.x(), start.y())] = 1;
-  while (!queue.empty()) {
-    const Eigen::Vector2i c = queue.front();
-    queue.pop_front();
-    for (const Eigen::Vector2i& step : {Eigen::Vector2i(1, 0), Eigen::Vector2i(-1, 0),
-                                        Eigen::Vector2i(0, 1), Eigen::Vector2i(0, -1)}) {
-      const Eigen::Vector2i n = c + step;
-      if (!g.inside(n.x(), n.y())) continue;
-      const size_t i = g.index(n.x(), n.y());
-      if (g.occupied[i] || reached[i]) continue;
-      reached[i] = 1;
-      queue.push_back(n);
+  for (const uint64_t seed : {1, 5, 9}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    BuildingOptions options;
+    options.seed = seed;
+    options.rooms_per_side = 4;
+    auto world = generateBuilding(options);
+    ASSERT_TRUE(world.ok()) << world.error();
+    const FreeSpace space = computeFreeSpace(world.value());
+    const FloorGrid& g = space.floors[0];
+    // Flood fill from the corridor's centre over free cells.
+    std::vector<uint8_t> reached(g.occupied.size(), 0);
+    const Eigen::Vector2i start = g.cellOf(world.value().room(0).footprint.center());
+    std::deque<Eigen::Vector2i> queue = {start};
+    reached[g.index(start.x(), start.y())] = 1;
+    while (!queue.empty()) {
+      const Eigen::Vector2i c = queue.front();
+      queue.pop_front();
+      for (const Eigen::Vector2i& step : {Eigen::Vector2i(1, 0), Eigen::Vector2i(-1, 0),
+                                          Eigen::Vector2i(0, 1), Eigen::Vector2i(0, -1)}) {
+        const Eigen::Vector2i n = c + step;
+        if (!g.inside(n.x(), n.y())) continue;
+        const size_t i = g.index(n.x(), n.y());
+        if (g.occupied[i] || reached[i]) continue;
+        reached[i] = 1;
+        queue.push_back(n);
+      }
     }
-  }
-  const auto voxels = space.roomVoxels(world.value().rooms.size());
-  for (const Room& room : world.value().rooms) {
-    const auto& cells = voxels[static_cast<size_t>(room.id)];
-    ASSERT_FALSE(cells.empty());
-    size_t reachable = 0;
-    for (const Eigen::Vector3i& v : cells) reachable += reached[g.index(v.x(), v.y())];
-    EXPECT_GT(reachable, cells.size() / 2) << "room " << room.id << " is cut off";
-    const double area_cells = room.footprint.size().prod() / (g.resolution * g.resolution);
-    // At most the cells whose centres fall in the footprint, edges included.
-    const Eigen::Vector2d cells_per_side = room.footprint.size() / g.resolution;
-    EXPECT_LE(static_cast<double>(cells.size()),
-              (cells_per_side.x() + 1) * (cells_per_side.y() + 1));
-    EXPECT_GE(static_cast<double>(cells.size()), area_cells * 0.4);
-  }
-  for (const ObjectInstance& object : world.value().objects) {
-    const Eigen::Vector2i c = g.cellOf(object.T_world_object.translation().head<2>());
-    EXPECT_TRUE(g.occupied[g.index(c.x(), c.y())]) << "object " << object.id;
-    EXPECT_EQ(g.room[g.index(c.x(), c.y())], -1);
+    const auto voxels = space.roomVoxels(world.value().rooms.size());
+    for (const Room& room : world.value().rooms) {
+      const auto& cells = voxels[static_cast<size_t>(room.id)];
+      ASSERT_FALSE(cells.empty());
+      size_t reachable = 0;
+      for (const Eigen::Vector3i& v : cells) reachable += reached[g.index(v.x(), v.y())];
+      EXPECT_GT(reachable, cells.size() / 2) << "room " << room.id << " is cut off";
+      const double area_cells = room.footprint.size().prod() / (g.resolution * g.resolution);
+      // At most the cells whose centres fall in the footprint, edges included.
+      const Eigen::Vector2d cells_per_side = room.footprint.size() / g.resolution;
+      EXPECT_LE(static_cast<double>(cells.size()),
+                (cells_per_side.x() + 1) * (cells_per_side.y() + 1));
+      EXPECT_GE(static_cast<double>(cells.size()), area_cells * 0.4);
+    }
+    for (const ObjectInstance& object : world.value().objects) {
+      const Eigen::Vector2i c = g.cellOf(object.T_world_object.translation().head<2>());
+      EXPECT_TRUE(g.occupied[g.index(c.x(), c.y())]) << "object " << object.id;
+      EXPECT_EQ(g.room[g.index(c.x(), c.y())], -1);
+    }
   }
 }
 

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "hydra_multi/sim/building_generator.h"
+#include "hydra_multi/sim/exploration.h"
 #include "hydra_multi/sim/path_planner.h"
 #include "hydra_multi/sim/trajectory.h"
 
@@ -117,6 +118,32 @@ TEST(Trajectory, OdometryDrift) {
   const double drift_pct = 100.0 * drift_sum / 20.0 / 300.0;
   EXPECT_GT(drift_pct, 1.0);
   EXPECT_LT(drift_pct, 2.0);
+}
+
+// A tour enters every room it lists, in order, along one continuous collision-free path.
+TEST(Exploration, TourVisitsRoomsInOrder) {
+  const World world = building();
+  const FreeSpace space = computeFreeSpace(world);
+  const FloorGrid& g = space.floors[0];
+  const auto start = roomStandpoint(g, 0);
+  ASSERT_TRUE(start.ok()) << start.error();
+  const std::vector<int> rooms = {2, 7, 4};
+  auto tour = planRoomTour(world, g, start.value(), rooms);
+  ASSERT_TRUE(tour.ok()) << tour.error();
+  size_t next = 0;
+  for (size_t i = 0; i < tour.value().size(); ++i) {
+    const Eigen::Vector2d& p = tour.value()[i];
+    if (i > 0) {
+      EXPECT_LE((p - tour.value()[i - 1]).norm(), g.resolution * std::sqrt(2.0) + 1e-9);
+    }
+    const Eigen::Vector2i c = g.cellOf(p);
+    EXPECT_GE(g.clearance[g.index(c.x(), c.y())], 0.25f);
+    if (next < rooms.size() && g.room[g.index(c.x(), c.y())] == rooms[next]) ++next;
+  }
+  EXPECT_EQ(next, rooms.size()) << "the tour skipped a room or changed the order";
+  auto bad = planRoomTour(world, g, start.value(), {999});
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error(), "tour: no room 999");
 }
 
 }  // namespace

@@ -1,0 +1,22 @@
+#pragma once
+// Exploration tours: a robot drives from its start to each of a list of rooms in turn and looks
+// around inside each (a loop through the room's four quarter points), along collision-free paths
+// (path_planner.h). Which robot visits which rooms is the preset's choice.
+
+#include <vector>
+
+#include "hydra_multi/core/result.h"
+#include "hydra_multi/sim/path_planner.h"
+
+namespace hydra_multi::sim {
+
+/// The free cell of `room` with the most clearance (a good place to stand in it).
+Result<Eigen::Vector2d> roomStandpoint(const FloorGrid& grid, int room);
+
+/// The path of a tour on one floor: start, then every room of `rooms` in order.
+Result<std::vector<Eigen::Vector2d>> planRoomTour(const World& world, const FloorGrid& grid,
+                                                  const Eigen::Vector2d& start,
+                                                  const std::vector<int>& rooms,
+                                                  const PathPlannerOptions& options = {});
+
+}  // namespace hydra_multi::sim
