@@ -93,6 +93,7 @@ FreeSpace computeFreeSpace(const World& world, const FreeSpaceOptions& options) 
                          {door.center.x() + 0.5 * door.width, gap_hi + 1e-6}};
       forCells(g, opening, [&](int x, int y) { g.occupied[g.index(x, y)] = 0; });
     }
+    g.wall = g.occupied;  // before the furniture goes in
     for (const ObjectInstance& object : world.objects) {
       if (world.room(object.room).floor != floor.index) continue;
       Eigen::Vector2d olo = Eigen::Vector2d::Constant(1e300), ohi = -olo;

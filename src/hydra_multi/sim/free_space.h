@@ -28,6 +28,7 @@ struct FloorGrid {
   Eigen::Vector2d origin = Eigen::Vector2d::Zero();  ///< corner of cell (0, 0)
   int width = 0, height = 0;                         ///< cells along x and y
   std::vector<uint8_t> occupied;                     ///< 1: wall, outside or furniture
+  std::vector<uint8_t> wall;                         ///< 1: wall or outside (not furniture)
   std::vector<float> clearance;                      ///< distance to the nearest obstacle (m)
   std::vector<int> room;                             ///< room id of a free cell; -1 otherwise
   std::vector<uint8_t> gvd;                          ///< 1: on the GVD
