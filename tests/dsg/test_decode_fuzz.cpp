@@ -76,16 +76,7 @@ std::string mutateBytes(std::string s, std::mt19937& rng) {
 
 // A record with a valid frame and checksum around any payload, so mutations reach the decoder.
 std::string frame(RecordKind kind, const std::string& payload) {
-  ByteWriter body;
-  body.u8(static_cast<uint8_t>(kind));
-  body.u16(kBinaryVersion);
-  body.varint(payload.size());
-  body.raw(payload);
-  ByteWriter record;
-  record.raw("HMDG");
-  record.raw(body.bytes());
-  record.u32(crc32(body.bytes()));
-  return record.release();
+  return encodeRecord(kind, payload);
 }
 
 std::string payloadOf(const std::string& record) {

@@ -1,3 +1,6 @@
+// Reading the binary format's payloads (layout: binary_format.h): every length is checked against
+// the bytes left and every value before anything is returned.
+
 #include "hydra_multi/dsg/io/binary_format.h"
 
 #include "hydra_multi/dsg/io/byte_codec.h"
@@ -6,166 +9,12 @@
 namespace hydra_multi::io {
 namespace {
 
-constexpr std::string_view kMagic = "HMDG";
 constexpr size_t kMaxString = 1 << 16;
 // Smallest encodings, for bounding element counts by the bytes left (see ByteReader::count).
 constexpr size_t kMinNodeBytes = 8 + 1 + 24 + 1 + 1;
 constexpr size_t kMinEdgeBytes = 8 + 8 + 8 + 1;
 constexpr size_t kMinVertexBytes = 12 + 3 + 1 + 1 + 1;
 constexpr size_t kMinPoseEdgeBytes = 8 + 8 + 1 + 12 * 8 + 36 * 8;
-
-// --- writing ---
-
-void writeVector3d(ByteWriter& w, const Eigen::Vector3d& v) {
-  for (int i = 0; i < 3; ++i) w.f64(v[i]);
-}
-
-void writeIndexList(ByteWriter& w, const std::vector<uint64_t>& indices) {
-  w.varint(indices.size());
-  int64_t previous = 0;
-  for (const uint64_t index : indices) {
-    w.svarint(static_cast<int64_t>(index) - previous);
-    previous = static_cast<int64_t>(index);
-  }
-}
-
-void writeSemantic(ByteWriter& w, const SemanticAttributes& s) {
-  w.varint(s.label);
-  w.string(s.name);
-  w.u8(s.color.r);
-  w.u8(s.color.g);
-  w.u8(s.color.b);
-  w.u8(s.bounding_box ? 1 : 0);
-  if (s.bounding_box) {
-    writeVector3d(w, s.bounding_box->min);
-    writeVector3d(w, s.bounding_box->max);
-  }
-}
-
-void writeNode(ByteWriter& w, const Node& node) {
-  w.u64(node.id.value());
-  w.u8(static_cast<uint8_t>(node.layer()));
-  writeVector3d(w, node.position);
-  w.svarint(node.last_update_time_ns);
-  w.u8(node.is_active ? 1 : 0);
-  if (const auto* agent = node.find<AgentAttributes>()) {
-    for (int i = 0; i < 4; ++i) w.f64(agent->orientation.coeffs()[i]);  // x y z w
-    w.svarint(agent->timestamp_ns);
-    w.varint(agent->keyframe_id);
-    return;
-  }
-  writeSemantic(w, *node.semantic());
-  if (const auto* object = node.find<ObjectAttributes>()) writeIndexList(w, object->mesh_vertices);
-  if (const auto* place = node.find<PlaceAttributes>()) {
-    w.f64(place->distance);
-    writeIndexList(w, place->mesh_vertices);
-  }
-}
-
-void writeMeshDelta(ByteWriter& w, const MeshDelta& mesh) {
-  w.varint(mesh.vertex_start);
-  w.varint(mesh.vertices.size());
-  int64_t previous_time = 0;
-  for (const MeshVertex& v : mesh.vertices) {
-    for (int i = 0; i < 3; ++i) w.f32(v.position[i]);
-    w.u8(v.color.r);
-    w.u8(v.color.g);
-    w.u8(v.color.b);
-    w.varint(v.label == MeshVertex::kUnlabeled ? 0 : uint64_t{v.label} + 1);
-    w.u8(v.robot.index());
-    w.svarint(v.time_ns - previous_time);
-    previous_time = v.time_ns;
-  }
-  w.varint(mesh.face_start);
-  w.varint(mesh.faces.size());
-  int64_t previous = 0;
-  for (const MeshFace& face : mesh.faces) {
-    for (const uint32_t v : face) {
-      w.svarint(static_cast<int64_t>(v) - previous);
-      previous = v;
-    }
-  }
-}
-
-void writeGraphDelta(ByteWriter& w, const GraphDelta& delta) {
-  w.varint(delta.nodes.size());
-  for (const Node& node : delta.nodes) writeNode(w, node);
-  w.varint(delta.removed_nodes.size());
-  for (const NodeId id : delta.removed_nodes) w.u64(id.value());
-  w.varint(delta.edges.size());
-  for (const Edge& edge : delta.edges) {
-    w.u64(edge.source.value());
-    w.u64(edge.target.value());
-    w.f64(edge.info.weight);
-    w.u8(edge.info.weighted ? 1 : 0);
-  }
-  w.varint(delta.removed_edges.size());
-  for (const EdgeKey& key : delta.removed_edges) {
-    w.u64(key.first().value());
-    w.u64(key.second().value());
-  }
-  writeMeshDelta(w, delta.mesh);
-}
-
-void writeRobotUpdate(ByteWriter& w, const RobotUpdate& u) {
-  w.u8(u.robot.index());
-  w.varint(u.sequence);
-  w.svarint(u.time_ns);
-  w.u8(u.is_snapshot ? 1 : 0);
-  w.varint(u.provided_layers);
-  writeGraphDelta(w, u.graph);
-  w.varint(u.pose_graph.size());
-  for (const PoseGraphEdge& e : u.pose_graph) {
-    w.u64(e.from.value());
-    w.u64(e.to.value());
-    w.u8(static_cast<uint8_t>(e.kind));
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 4; ++c) w.f64(e.T_from_to.matrix()(r, c));
-    }
-    for (int r = 0; r < 6; ++r) {
-      for (int c = 0; c < 6; ++c) w.f64(e.information(r, c));
-    }
-  }
-  w.varint(u.deformation.points.size());
-  for (const ControlPoint& p : u.deformation.points) {
-    w.varint(p.id);
-    writeVector3d(w, p.position);
-    w.svarint(p.time_ns);
-    w.u64(p.keyframe.value());
-  }
-  w.varint(u.deformation.edges.size());
-  for (const ControlPointEdge& e : u.deformation.edges) {
-    w.varint(e.from);
-    w.varint(e.to);
-  }
-  w.varint(u.descriptors.size());
-  for (const KeyframeDescriptor& d : u.descriptors) {
-    w.u64(d.keyframe.value());
-    w.varint(d.bow.size());
-    for (const BowEntry& b : d.bow) {
-      w.varint(b.word);
-      w.f32(b.weight);
-    }
-    w.varint(d.keypoints.size());
-    for (const Keypoint& k : d.keypoints) {
-      for (int i = 0; i < 3; ++i) w.f32(k.position[i]);
-      w.varint(k.word);
-    }
-  }
-}
-
-std::string wrapRecord(RecordKind kind, const std::string& payload) {
-  ByteWriter body;
-  body.u8(static_cast<uint8_t>(kind));
-  body.u16(kBinaryVersion);
-  body.varint(payload.size());
-  body.raw(payload);
-  ByteWriter record;
-  record.raw(kMagic);
-  record.raw(body.bytes());
-  record.u32(crc32(body.bytes()));
-  return record.release();
-}
 
 // --- reading ---
 
@@ -383,52 +232,6 @@ Result<T> decodePayload(const RecordView& record, RecordKind expected, const cha
 }
 
 }  // namespace
-
-Result<std::optional<RecordView>> RecordReader::next() {
-  if (pos_ == bytes_.size()) return std::optional<RecordView>();
-  const size_t start = pos_;
-  ByteReader reader(bytes_.substr(pos_), pos_);
-  try {
-    if (reader.raw(kMagic.size(), "record magic") != kMagic) {
-      reader.fail("not a hydra-multi binary record (magic bytes are not \"HMDG\")");
-    }
-    const size_t body_start = reader.offset() - start;
-    const uint8_t kind = reader.u8("record kind");
-    if (kind != 1 && kind != 2) reader.fail("unknown record kind " + std::to_string(kind));
-    const uint16_t version = reader.u16("format version");
-    if (version != kBinaryVersion) {
-      reader.fail("format version " + std::to_string(version) +
-                  " is not supported (this build reads " + std::to_string(kBinaryVersion) + ")");
-    }
-    const uint64_t size = reader.varint("payload size");
-    if (size > reader.remaining()) {
-      reader.fail("payload of " + std::to_string(size) + " bytes is longer than the " +
-                  std::to_string(reader.remaining()) + " bytes left: truncated");
-    }
-    const std::string_view payload = reader.raw(static_cast<size_t>(size), "payload");
-    const size_t body_end = reader.offset() - start;
-    const uint32_t stored = reader.u32("checksum");
-    const uint32_t computed = crc32(bytes_.substr(start + body_start, body_end - body_start));
-    if (stored != computed) reader.fail("checksum mismatch: the record is corrupt");
-    pos_ = reader.offset();
-    return std::optional<RecordView>(RecordView{static_cast<RecordKind>(kind), start, payload});
-  } catch (const DecodeError& error) {
-    pos_ = bytes_.size();  // nothing after a broken record can be trusted to start a record
-    return Error{std::string("record at byte ") + std::to_string(start) + ": " + error.what()};
-  }
-}
-
-std::string encodeSceneGraphBinary(const SceneGraph& graph) {
-  ByteWriter payload;
-  writeGraphDelta(payload, snapshotOf(graph));
-  return wrapRecord(RecordKind::kSceneGraph, payload.bytes());
-}
-
-std::string encodeRobotUpdateBinary(const RobotUpdate& update) {
-  ByteWriter payload;
-  writeRobotUpdate(payload, update);
-  return wrapRecord(RecordKind::kRobotUpdate, payload.bytes());
-}
 
 Result<SceneGraph> decodeSceneGraphPayload(const RecordView& record) {
   auto delta =
