@@ -1,6 +1,5 @@
 #include "hydra_multi/dsg/io/spark_json.h"
 
-#include "hydra_multi/dsg/io/json_codecs.h"
 #include "hydra_multi/dsg/io/json_fields.h"
 #include "hydra_multi/dsg/io/json_format.h"
 
@@ -20,6 +19,8 @@ Eigen::Quaterniond readQuaternion(const Json& j, const char* key) {
   return Eigen::Quaterniond(toDouble(member(j, "w"), key), toDouble(member(j, "x"), key),
                             toDouble(member(j, "y"), key), toDouble(member(j, "z"), key));
 }
+
+Json vec3(const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); }
 
 Json boxJson(const std::optional<BoundingBox>& box) {
   const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
