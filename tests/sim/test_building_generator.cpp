@@ -28,15 +28,7 @@ Rect footprintOf(const ObjectInstance& o) {
   return {lo, hi};
 }
 
-Eigen::Isometry3d roomFrame(const World& world, const Room& room) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() << room.footprint.center().x(), room.footprint.center().y(),
-      world.floors.at(static_cast<size_t>(room.floor)).z;
-  if (room.faces_positive_y) {  // the door is on the +y wall: "away from the door" is -y
-    T.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  }
-  return T;
-}
+Eigen::Isometry3d roomFrame(const World& world, const Room& room) { return world.roomFrame(room); }
 
 // Same seed, same world; another seed, other furniture.
 TEST(BuildingGenerator, DeterministicFromSeed) {

@@ -11,12 +11,7 @@ namespace {
 // The body pose at the same place of a room's own frame: 1.5 m in from the door, looking away
 // from it at the back wall.
 Eigen::Isometry3d bodyInRoom(const World& world, const Room& room) {
-  Eigen::Isometry3d T_world_room = Eigen::Isometry3d::Identity();
-  T_world_room.translation() << room.footprint.center().x(), room.footprint.center().y(),
-      world.floors.at(static_cast<size_t>(room.floor)).z;
-  if (room.faces_positive_y) {
-    T_world_room.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  }
+  const Eigen::Isometry3d T_world_room = world.roomFrame(room);
   Eigen::Isometry3d T_room_body = Eigen::Isometry3d::Identity();
   T_room_body.translation() << 0.0, -0.5 * room.footprint.size().y() + 1.5, 1.0;
   T_room_body.linear() = Eigen::AngleAxisd(0.5 * M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();

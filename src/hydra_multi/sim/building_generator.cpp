@@ -155,15 +155,7 @@ Result<World> generateBuilding(const BuildingOptions& options) {
           layout = sampleLayout(room.kind, w, d, world.classes, rng);
         }
         world.rooms.push_back(room);
-        // Room frame: centre of the footprint, y away from the door. Rooms below the corridor
-        // (side 0) have their door on their +y wall, so "away" is world -y: rotated by pi.
-        Eigen::Isometry3d T_world_room = Eigen::Isometry3d::Identity();
-        T_world_room.translation() << room.footprint.center().x(), room.footprint.center().y(),
-            world.floors.back().z;
-        if (room.faces_positive_y) {
-          T_world_room.linear() =
-              Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-        }
+        const Eigen::Isometry3d T_world_room = world.roomFrame(room);
         for (const Placement& p : layout) {
           ObjectInstance object;
           object.id = static_cast<int>(world.objects.size());

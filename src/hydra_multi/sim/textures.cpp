@@ -54,12 +54,7 @@ std::vector<TexturedPoint> generateTextures(const World& world, const TextureOpt
     } else {
       local = sampleRoomTexture(size.x(), size.y(), options, rng);
     }
-    Eigen::Isometry3d T_world_room = Eigen::Isometry3d::Identity();
-    T_world_room.translation() << room.footprint.center().x(), room.footprint.center().y(),
-        world.floors.at(static_cast<size_t>(room.floor)).z;
-    if (room.kind != RoomKind::kCorridor && room.faces_positive_y) {
-      T_world_room.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    }
+    const Eigen::Isometry3d T_world_room = world.roomFrame(room);
     for (const auto& [p_room, word] : local)
       textures.push_back({T_world_room * p_room, word, room.id});
   }

@@ -1,5 +1,7 @@
 #include "hydra_multi/sim/world.h"
 
+#include <cmath>
+
 namespace hydra_multi::sim {
 
 bool Rect::contains(const Eigen::Vector2d& p, double margin) const {
@@ -22,6 +24,17 @@ const char* roomKindName(RoomKind kind) {
       return "kitchen";
   }
   return "room";
+}
+
+Eigen::Isometry3d World::roomFrame(const Room& room) const {
+  Eigen::Isometry3d T_world_room = Eigen::Isometry3d::Identity();
+  T_world_room.translation() << room.footprint.center().x(), room.footprint.center().y(),
+      floors.at(static_cast<size_t>(room.floor)).z;
+  // A door on the room's +y wall means "away from the door" is world -y: turned by pi.
+  if (room.kind != RoomKind::kCorridor && room.faces_positive_y) {
+    T_world_room.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  }
+  return T_world_room;
 }
 
 const SemanticClass* World::findClass(uint32_t label) const {

@@ -77,6 +77,9 @@ struct World {
   std::vector<SemanticClass> classes;
 
   const Room& room(int id) const { return rooms.at(static_cast<size_t>(id)); }
+  /// T_world_room: origin at the footprint's centre on the floor, x along the corridor, y away
+  /// from the room's door (docs/DEVELOPING.md); corridors are not turned.
+  Eigen::Isometry3d roomFrame(const Room& room) const;
   const SemanticClass* findClass(uint32_t label) const;
 };
 
