@@ -1,5 +1,6 @@
 #include "hydra_multi/core/nearest_neighbors.h"
 
+#include <algorithm>
 #include <cmath>
 #include <nanoflann.hpp>
 
@@ -38,6 +39,22 @@ std::vector<NearestNeighbors::Neighbor> NearestNeighbors::nearest(const Eigen::V
   for (size_t i = 0; i < found; ++i) {
     result[i] = {static_cast<size_t>(indices[i]), std::sqrt(squared[i])};
   }
+  return result;
+}
+
+std::vector<NearestNeighbors::Neighbor> NearestNeighbors::withinRadius(const Eigen::Vector3d& query,
+                                                                       double radius) const {
+  if (!impl_->tree || !(radius >= 0.0)) return {};
+  // nanoflann's L2_Simple metric works in squared distances.
+  std::vector<std::pair<Eigen::Index, double>> matches;
+  impl_->tree->index->radiusSearch(query.data(), radius * radius, matches,
+                                   nanoflann::SearchParams(32, 0.0f, false));
+  std::vector<Neighbor> result(matches.size());
+  for (size_t i = 0; i < matches.size(); ++i) {
+    result[i] = {static_cast<size_t>(matches[i].first), std::sqrt(matches[i].second)};
+  }
+  std::sort(result.begin(), result.end(),
+            [](const Neighbor& a, const Neighbor& b) { return a.index < b.index; });
   return result;
 }
 

@@ -21,6 +21,8 @@ class NearestNeighbors {
   };
   /// The k nearest points, nearest first (fewer when the set is smaller).
   std::vector<Neighbor> nearest(const Eigen::Vector3d& query, size_t k = 1) const;
+  /// Every point within `radius` of the query, by increasing index (deterministic order).
+  std::vector<Neighbor> withinRadius(const Eigen::Vector3d& query, double radius) const;
   size_t size() const;
 
  private:
