@@ -29,10 +29,25 @@ std::vector<std::vector<uint32_t>> furnitureGroups(RoomKind kind) {
       return {{9}, {6, 14}, {5}, {11}, {10}};
     case RoomKind::kKitchen:
       return {{7}, {5}, {5}, {15}, {16}, {17}, {19}};
+    case RoomKind::kOpenSpace:  // the desk clusters are repeated by area (openSpaceGroups)
+      return {{8}, {12}, {10}, {18}, {20}, {19}, {17}, {12}};
     case RoomKind::kCorridor:
+    case RoomKind::kStairwell:
       return {};
   }
   return {};
+}
+
+// An open space holds one desk cluster (desk, monitor, chair) per 12 m^2 besides its furniture.
+std::vector<std::vector<uint32_t>> openSpaceGroups(double area) {
+  std::vector<std::vector<uint32_t>> groups;
+  const int clusters = std::max(2, static_cast<int>(area / 12.0));
+  for (int i = 0; i < clusters; ++i) {
+    groups.push_back({6, 13});
+    groups.push_back({5});
+  }
+  for (auto& g : furnitureGroups(RoomKind::kOpenSpace)) groups.push_back(g);
+  return groups;
 }
 
 Rect footprintOf(const Eigen::Vector3d& position, double yaw, const Eigen::Vector3d& size) {
@@ -53,7 +68,9 @@ std::vector<Placement> sampleLayout(RoomKind kind, double width, double depth,
   std::vector<Rect> taken;
   // The door zone: the full width of the room, kDoorClearance deep from the door wall.
   taken.push_back({{-0.5 * width, -0.5 * depth}, {0.5 * width, -0.5 * depth + kDoorClearance}});
-  for (const auto& group : furnitureGroups(kind)) {
+  const auto groups = kind == RoomKind::kOpenSpace ? openSpaceGroups(width * depth)
+                                                   : furnitureGroups(kind);
+  for (const auto& group : groups) {
     const Eigen::Vector3d size = sizes.at(group.front());
     for (int attempt = 0; attempt < 200; ++attempt) {
       const double yaw = 0.5 * M_PI * std::floor(4.0 * unit(rng));
@@ -102,7 +119,15 @@ Status BuildingOptions::validate() const {
   if (!(floor_height >= 2.2 && floor_height <= 10))
     return Error{"floor_height must be 2.2 to 10 m"};
   if (room_kind == RoomKind::kCorridor) return Error{"room_kind cannot be corridor"};
+  if (room_kind == RoomKind::kStairwell || room_kind == RoomKind::kOpenSpace)
+    return Error{"room_kind must be office, student room or kitchen"};
   if (kitchen_every < 0) return Error{"kitchen_every must be >= 0"};
+  if (open_spaces < 0 || open_spaces > rooms_per_side)
+    return Error{"open_spaces must be 0 to rooms_per_side"};
+  if (!(far_side_depth == 0.0 || (far_side_depth >= 2.5 && far_side_depth <= 40)))
+    return Error{"far_side_depth must be 0 (room_depth) or 2.5 to 40 m"};
+  if (floors > 1 && rooms_per_side < 2)
+    return Error{"a building of several floors needs rooms_per_side >= 2 (one is the stairwell)"};
   return Status::Ok();
 }
 
@@ -123,53 +148,97 @@ Result<World> generateBuilding(const BuildingOptions& options) {
     corridor.kind = RoomKind::kCorridor;
     corridor.floor = f;
     corridor.footprint = {{0.0, 0.0}, {length, cw}};
+    if (options.identical_rooms) corridor.texture_period = w + t;
     world.rooms.push_back(corridor);
-    for (int side = 0; side < 2; ++side) {
+    // The rooms of a floor: (side, x0, width, kind); side 0 lies below the corridor.
+    struct Slot {
+      int side;
+      double x0, width;
+      RoomKind kind;
+    };
+    std::vector<Slot> slots;
+    for (int i = 0; i < options.rooms_per_side; ++i) {
+      const bool stairwell = options.floors > 1 && i == options.rooms_per_side - 1;
+      const bool kitchen = options.kitchen_every > 0 &&
+                           i % options.kitchen_every == options.kitchen_every - 1;
+      slots.push_back({0, i * (w + t), w,
+                       stairwell ? RoomKind::kStairwell
+                       : kitchen ? RoomKind::kKitchen
+                                 : options.room_kind});
+    }
+    if (options.open_spaces > 0) {
+      const double open_width = (length + t) / options.open_spaces - t;
+      for (int i = 0; i < options.open_spaces; ++i)
+        slots.push_back({1, i * (open_width + t), open_width, RoomKind::kOpenSpace});
+    } else {
       for (int i = 0; i < options.rooms_per_side; ++i) {
-        Room room;
-        room.id = static_cast<int>(world.rooms.size());
-        room.floor = f;
-        const int number = side * options.rooms_per_side + i;
-        room.kind = (options.kitchen_every > 0 &&
-                     number % options.kitchen_every == options.kitchen_every - 1)
-                        ? RoomKind::kKitchen
-                        : options.room_kind;
-        const double x0 = i * (w + t);
-        room.faces_positive_y = side == 0;  // side 0 lies below the corridor, its door faces +y
-        room.footprint =
-            side == 0 ? Rect{{x0, -t - d}, {x0 + w, -t}} : Rect{{x0, cw + t}, {x0 + w, cw + t + d}};
-        world.doors.push_back(
-            {corridor.id, room.id, f, {x0 + 0.5 * w, side == 0 ? -0.5 * t : cw + 0.5 * t}, 0.9});
-        // Furniture: sampled per room, or once per kind when rooms are identical.
-        std::vector<Placement> layout;
-        if (options.identical_rooms) {
-          auto it = shared_layouts.find(room.kind);
-          if (it == shared_layouts.end()) {
-            it =
-                shared_layouts.emplace(room.kind, sampleLayout(room.kind, w, d, world.classes, rng))
-                    .first;
-          }
-          layout = it->second;
-          room.layout = static_cast<int>(room.kind);
-        } else {
-          layout = sampleLayout(room.kind, w, d, world.classes, rng);
-        }
-        world.rooms.push_back(room);
-        const Eigen::Isometry3d T_world_room = world.roomFrame(room);
-        for (const Placement& p : layout) {
-          ObjectInstance object;
-          object.id = static_cast<int>(world.objects.size());
-          object.label = p.label;
-          object.room = room.id;
-          object.size = p.size;
-          Eigen::Isometry3d T_room_object = Eigen::Isometry3d::Identity();
-          T_room_object.translation() = p.position;
-          T_room_object.linear() =
-              Eigen::AngleAxisd(p.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-          object.T_world_object = T_world_room * T_room_object;
-          world.objects.push_back(object);
-        }
+        const int number = options.rooms_per_side + i;
+        const bool kitchen = options.kitchen_every > 0 &&
+                             number % options.kitchen_every == options.kitchen_every - 1;
+        slots.push_back({1, i * (w + t), w, kitchen ? RoomKind::kKitchen : options.room_kind});
       }
+    }
+    const double far_depth = options.far_side_depth > 0.0 ? options.far_side_depth : d;
+    for (const Slot& slot : slots) {
+      Room room;
+      room.id = static_cast<int>(world.rooms.size());
+      room.floor = f;
+      room.kind = slot.kind;
+      const double depth = slot.side == 0 ? d : far_depth;
+      const double x0 = slot.x0, rw = slot.width;
+      room.faces_positive_y = slot.side == 0;  // side 0's door faces +y
+      room.footprint = slot.side == 0 ? Rect{{x0, -t - d}, {x0 + rw, -t}}
+                                      : Rect{{x0, cw + t}, {x0 + rw, cw + t + depth}};
+      const double door_y = slot.side == 0 ? -0.5 * t : cw + 0.5 * t;
+      if (rw > 10.0) {  // a wide open space: two doors
+        world.doors.push_back({corridor.id, room.id, f, {x0 + 0.25 * rw, door_y}, 1.2});
+        world.doors.push_back({corridor.id, room.id, f, {x0 + 0.75 * rw, door_y}, 1.2});
+      } else {
+        world.doors.push_back({corridor.id, room.id, f, {x0 + 0.5 * rw, door_y}, 0.9});
+      }
+      // Furniture: sampled per room, or once per kind when rooms are identical.
+      std::vector<Placement> layout;
+      if (room.kind == RoomKind::kStairwell) {
+        // no furniture: the stairs take the room
+      } else if (options.identical_rooms && room.kind != RoomKind::kOpenSpace) {
+        auto it = shared_layouts.find(room.kind);
+        if (it == shared_layouts.end()) {
+          it = shared_layouts
+                   .emplace(room.kind, sampleLayout(room.kind, rw, depth, world.classes, rng))
+                   .first;
+        }
+        layout = it->second;
+        room.layout = static_cast<int>(room.kind);
+      } else {
+        layout = sampleLayout(room.kind, rw, depth, world.classes, rng);
+      }
+      world.rooms.push_back(room);
+      const Eigen::Isometry3d T_world_room = world.roomFrame(room);
+      for (const Placement& p : layout) {
+        ObjectInstance object;
+        object.id = static_cast<int>(world.objects.size());
+        object.label = p.label;
+        object.room = room.id;
+        object.size = p.size;
+        Eigen::Isometry3d T_room_object = Eigen::Isometry3d::Identity();
+        T_room_object.translation() = p.position;
+        T_room_object.linear() =
+            Eigen::AngleAxisd(p.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+        object.T_world_object = T_world_room * T_room_object;
+        world.objects.push_back(object);
+      }
+    }
+  }
+  // Stairs: in the stairwell, from near its door on one floor to its far wall on the next.
+  for (const Room& lower : world.rooms) {
+    if (lower.kind != RoomKind::kStairwell) continue;
+    for (const Room& upper : world.rooms) {
+      if (upper.kind != RoomKind::kStairwell || upper.floor != lower.floor + 1) continue;
+      const Eigen::Vector2d c = lower.footprint.center();
+      const double half = 0.5 * lower.footprint.size().y();
+      // Side 0 rooms have their door at +y: the stairs start there and rise towards -y.
+      world.stairs.push_back({lower.id, upper.id, {c.x(), c.y() + half - 1.2},
+                              {c.x(), c.y() - half + 0.8}});
     }
   }
   return world;

@@ -1,6 +1,8 @@
 #pragma once
 // Procedural buildings: on every floor a straight corridor with rooms on both sides, one door per
-// room onto the corridor, and furniture by room kind. Furniture is placed in a room frame (origin
+// room onto the corridor (two for a wide open space), and furniture by room kind. The far side
+// may instead hold a few large open-plan rooms; on buildings of several floors the last room of
+// the near side is a stairwell on every floor, with stairs between each floor and the next. Furniture is placed in a room frame (origin
 // at the room's centre, x along the corridor, y away from the door) by rejection sampling without
 // overlaps and clear of the door, so rooms that share a layout are identical in that frame: the
 // perceptual aliasing of the paper's Simmons data.
@@ -21,6 +23,10 @@ struct BuildingOptions {
   double wall_thickness = 0.15;
   double floor_height = 3.0;  ///< floor to ceiling (m); floors are stacked with a 0.3 m slab
   RoomKind room_kind = RoomKind::kOffice;
+  /// The far side (y > corridor) holds this many open-plan rooms instead of rooms_per_side rooms.
+  int open_spaces = 0;
+  /// Depth of the far side's rooms (m); 0: room_depth.
+  double far_side_depth = 0.0;
   /// Every n-th room (n > 0) is a kitchen instead; 0: none.
   int kitchen_every = 0;
   /// One furniture layout for all rooms of the same kind (aliasing, like identical student rooms).

@@ -1,5 +1,7 @@
 #include "hydra_multi/sim/exploration.h"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace hydra_multi::sim {
@@ -20,6 +22,24 @@ Result<Eigen::Vector2d> roomStandpoint(const FloorGrid& grid, int room) {
   return point;
 }
 
+namespace {
+
+// Look-out points of a room in a loop: a grid about 4 m apart (2 x 2 at least), serpentine.
+std::vector<Eigen::Vector2d> lookouts(const Rect& f) {
+  const int nx = std::max(2, static_cast<int>(std::lround(f.size().x() / 4.0)));
+  const int ny = std::max(2, static_cast<int>(std::lround(f.size().y() / 4.0)));
+  std::vector<Eigen::Vector2d> points;
+  for (int j = 0; j < ny; ++j) {
+    for (int k = 0; k < nx; ++k) {
+      const int i = j % 2 == 0 ? k : nx - 1 - k;
+      points.push_back(f.min + Eigen::Vector2d((i + 0.5) / nx, (j + 0.5) / ny).cwiseProduct(f.size()));
+    }
+  }
+  return points;
+}
+
+}  // namespace
+
 Result<std::vector<Eigen::Vector2d>> planRoomTour(const World& world, const FloorGrid& grid,
                                                   const Eigen::Vector2d& start,
                                                   const std::vector<int>& rooms,
@@ -39,12 +59,10 @@ Result<std::vector<Eigen::Vector2d>> planRoomTour(const World& world, const Floo
     if (!centre) return Error{"tour: " + centre.error()};
     if (Status s = driveTo(centre.value()); !s)
       return Error{"tour to room " + std::to_string(room_id) + ": " + s.message()};
-    // Look around: the quarter points of the room that are free enough, then back to the centre.
-    const Rect& f = world.room(room_id).footprint;
-    for (const Eigen::Vector2d& corner :
-         {Eigen::Vector2d(0.25, 0.25), Eigen::Vector2d(0.75, 0.25), Eigen::Vector2d(0.75, 0.75),
-          Eigen::Vector2d(0.25, 0.75)}) {
-      const Eigen::Vector2d p = f.min + corner.cwiseProduct(f.size());
+    // Look around: the look-outs of the room that are free enough, then back to the centre.
+    const Room& room = world.room(room_id);
+    if (room.kind == RoomKind::kStairwell || room.kind == RoomKind::kCorridor) continue;
+    for (const Eigen::Vector2d& p : lookouts(room.footprint)) {
       const Eigen::Vector2i c = grid.cellOf(p);
       if (!grid.inside(c.x(), c.y()) || grid.occupied[grid.index(c.x(), c.y())] ||
           grid.clearance[grid.index(c.x(), c.y())] < options.robot_radius) {
@@ -56,6 +74,70 @@ Result<std::vector<Eigen::Vector2d>> planRoomTour(const World& world, const Floo
       return Error{"tour in room " + std::to_string(room_id) + ": " + s.message()};
   }
   return tour;
+}
+
+Result<std::vector<Eigen::Vector3d>> planBuildingTour(const World& world, const FreeSpace& space,
+                                                      int start_floor,
+                                                      const Eigen::Vector2d& start,
+                                                      const std::vector<int>& rooms,
+                                                      const PathPlannerOptions& options) {
+  const auto gridOf = [&](int floor) -> const FloorGrid* {
+    for (const FloorGrid& g : space.floors) {
+      if (g.floor == floor) return &g;
+    }
+    return nullptr;
+  };
+  std::vector<Eigen::Vector3d> path;
+  int floor = start_floor;
+  Eigen::Vector2d here = start;
+  std::vector<int> leg;  // rooms of the current floor still to visit
+  const auto append = [&](const std::vector<Eigen::Vector2d>& points) {
+    const double z = world.floors.at(static_cast<size_t>(floor)).z;
+    for (size_t i = path.empty() ? 0 : 1; i < points.size(); ++i)
+      path.emplace_back(points[i].x(), points[i].y(), z);
+  };
+  const auto flushLeg = [&](const Eigen::Vector2d* then) -> Status {
+    const FloorGrid* grid = gridOf(floor);
+    if (grid == nullptr) return Error{"tour: no free space on floor " + std::to_string(floor)};
+    auto tour = planRoomTour(world, *grid, here, leg, options);
+    if (!tour) return Error{tour.error()};
+    std::vector<Eigen::Vector2d> points = tour.value();
+    if (then != nullptr) {
+      auto tail = planPath(*grid, points.back(), *then, options);
+      if (!tail) return Error{"tour to the stairs on floor " + std::to_string(floor) + ": " +
+                              tail.error()};
+      points.insert(points.end(), tail.value().begin() + 1, tail.value().end());
+    }
+    append(points);
+    here = points.back();
+    leg.clear();
+    return Status::Ok();
+  };
+  for (const int room_id : rooms) {
+    if (room_id < 0 || static_cast<size_t>(room_id) >= world.rooms.size())
+      return Error{"tour: no room " + std::to_string(room_id)};
+    const int target = world.room(room_id).floor;
+    while (floor != target) {
+      const bool up = target > floor;
+      const Stairs* flight = nullptr;
+      for (const Stairs& s : world.stairs) {
+        if (world.room(up ? s.lower_room : s.upper_room).floor == floor) flight = &s;
+      }
+      if (flight == nullptr)
+        return Error{"tour: no stairs " + std::string(up ? "up" : "down") + " from floor " +
+                     std::to_string(floor)};
+      const Eigen::Vector2d from = up ? flight->bottom : flight->top;
+      const Eigen::Vector2d to = up ? flight->top : flight->bottom;
+      if (Status s = flushLeg(&from); !s) return Error{s.message()};
+      floor += up ? 1 : -1;
+      const double z = world.floors.at(static_cast<size_t>(floor)).z;
+      path.emplace_back(to.x(), to.y(), z);  // the flight: z changes along it
+      here = to;
+    }
+    leg.push_back(room_id);
+  }
+  if (Status s = flushLeg(nullptr); !s) return Error{s.message()};
+  return path;
 }
 
 }  // namespace hydra_multi::sim

@@ -1,7 +1,8 @@
 #pragma once
 // Exploration tours: a robot drives from its start to each of a list of rooms in turn and looks
-// around inside each (a loop through the room's four quarter points), along collision-free paths
-// (path_planner.h). Which robot visits which rooms is the preset's choice.
+// around inside each (a loop through look-out points about 4 m apart, the four quarter points of
+// an ordinary room), along collision-free paths (path_planner.h); rooms on another floor are
+// reached by the stairs (World::stairs). Which robot visits which rooms is the preset's choice.
 
 #include <vector>
 
@@ -18,5 +19,14 @@ Result<std::vector<Eigen::Vector2d>> planRoomTour(const World& world, const Floo
                                                   const Eigen::Vector2d& start,
                                                   const std::vector<int>& rooms,
                                                   const PathPlannerOptions& options = {});
+
+/// A tour through rooms on any floor, as a 3D polyline: x-y on the floors and z the floor's
+/// height; on stairs z rises or falls along the flight. Fails when a room is unreachable or a
+/// floor change has no stairs.
+Result<std::vector<Eigen::Vector3d>> planBuildingTour(const World& world, const FreeSpace& space,
+                                                      int start_floor,
+                                                      const Eigen::Vector2d& start,
+                                                      const std::vector<int>& rooms,
+                                                      const PathPlannerOptions& options = {});
 
 }  // namespace hydra_multi::sim

@@ -22,6 +22,10 @@ const char* roomKindName(RoomKind kind) {
       return "student room";
     case RoomKind::kKitchen:
       return "kitchen";
+    case RoomKind::kOpenSpace:
+      return "open space";
+    case RoomKind::kStairwell:
+      return "stairwell";
   }
   return "room";
 }

@@ -27,7 +27,7 @@ struct Rect {
   bool overlaps(const Rect& other) const;
 };
 
-enum class RoomKind : uint8_t { kCorridor, kOffice, kStudentRoom, kKitchen };
+enum class RoomKind : uint8_t { kCorridor, kOffice, kStudentRoom, kKitchen, kOpenSpace, kStairwell };
 const char* roomKindName(RoomKind kind);
 
 struct Room {
@@ -37,6 +37,9 @@ struct Room {
   Rect footprint;   ///< free interior, walls excluded
   int layout = -1;  ///< rooms with one layout id have identical furniture (aliasing); -1: own
   bool faces_positive_y = true;  ///< which way the room's door wall faces the corridor
+  /// A corridor between identical rooms repeats its wall texture with this period along x (the
+  /// room pitch), as repeated doors and fittings do; 0: no repetition.
+  double texture_period = 0.0;
 };
 
 /// A door in the wall between two rooms of one floor; `center` lies on the shared wall.
@@ -45,6 +48,15 @@ struct Door {
   int floor = 0;
   Eigen::Vector2d center = Eigen::Vector2d::Zero();
   double width = 0.9;
+};
+
+/// A staircase between two floors: it rises inside stairwell `lower_room` (on the lower floor) to
+/// stairwell `upper_room` right above it, from `bottom` (x-y, lower floor) to `top` (x-y, upper
+/// floor).
+struct Stairs {
+  int lower_room = 0, upper_room = 0;
+  Eigen::Vector2d bottom = Eigen::Vector2d::Zero();
+  Eigen::Vector2d top = Eigen::Vector2d::Zero();
 };
 
 struct Floor {
@@ -73,6 +85,7 @@ struct World {
   std::vector<Floor> floors;
   std::vector<Room> rooms;
   std::vector<Door> doors;
+  std::vector<Stairs> stairs;
   std::vector<ObjectInstance> objects;
   std::vector<SemanticClass> classes;
 
