@@ -4,6 +4,7 @@
 // code: 0 success, 1 failure.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,11 +32,9 @@ struct PgoOptions {
   uint64_t seed = 0;
   std::string inliers_xml;   ///< labels: 1-based edge numbers of the inlier loop closures
   std::string inlier_edges;  ///< labels: a g2o file whose edges are the true loop closures
-  size_t min_inliers = 5;
-  std::string linear_solver = "auto";
-  int gnc_inner_iterations =
-      3;  ///< LM iterations per GNC solve (0: up to 100)  ///< auto | cholesky | cg (for the GNC
-          ///< solves)         ///< k: inliers a robot pair needs to be aligned
+  size_t min_inliers = 5;  ///< k: inliers a robot pair needs to be aligned
+  std::string linear_solver = "auto";  ///< auto | cholesky | cg (for the GNC solves)
+  int gnc_inner_iterations = 3;        ///< LM iterations per GNC solve (0: up to 100)
   std::string groundtruth;  ///< g2o/TORO file with the true poses (or edges to chain)
   std::string output;       ///< optimized graph as g2o
   bool json = false;
@@ -54,6 +53,30 @@ struct AteOptions {
   bool json = false;
 };
 int runAte(const AteOptions& options);
+
+struct SimulateOptions {
+  std::string preset = "office-3";
+  uint64_t seed = 1;
+  std::string out;
+  std::optional<int> robots;  ///< the preset's team size when absent
+  double scale = 1.0;
+  bool quiet = false;  ///< no progress lines on stderr
+};
+int runSimulate(const SimulateOptions& options);
+
+struct EvaluateOptions {
+  std::string dataset;
+  std::string result;  ///< a scene graph in the global frame (robot 0's)
+  bool json = false;
+};
+int runEvaluate(const EvaluateOptions& options);
+
+struct DatasetGraphOptions {
+  std::string dataset;
+  std::string robot;  ///< letter (a, b, ...) or index (0, 1, ...)
+  std::string out;
+};
+int runDatasetGraph(const DatasetGraphOptions& options);
 
 /// Prints "hydra-multi: error: <message>" on stderr and returns 1.
 int fail(const std::string& message);

@@ -105,10 +105,52 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   ate_cmd->add_flag("--json", ate.json, "print exactly one JSON object on stdout");
 
+  SimulateOptions simulate;
+  CLI::App* simulate_cmd = app.add_subcommand(
+      "simulate", "Generate a simulated robot-team dataset: update streams and ground truth");
+  simulate_cmd
+      ->add_option("--preset", simulate.preset,
+                   "office-3, residence-3f, dorm-2, dorm-2-meet, hetero-2 or tiny")
+      ->capture_default_str();
+  simulate_cmd->add_option("--seed", simulate.seed, "everything follows from it")
+      ->capture_default_str();
+  simulate_cmd->add_option("--out", simulate.out, "dataset directory (created)")->required();
+  simulate_cmd->add_option("--robots", simulate.robots, "team size (default: the preset's)")
+      ->check(CLI::Range(1, 10));
+  simulate_cmd->add_option("--scale", simulate.scale, "rooms along the corridor, times S")
+      ->check(CLI::Range(0.25, 4.0))
+      ->capture_default_str();
+  simulate_cmd->add_flag("--quiet", simulate.quiet, "no progress lines on stderr");
+
+  EvaluateOptions evaluate;
+  CLI::App* evaluate_cmd = app.add_subcommand(
+      "evaluate", "Score a scene graph (global frame = robot 0's) against a dataset's truth");
+  evaluate_cmd->add_option("--dataset", evaluate.dataset, "dataset directory (from simulate)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  evaluate_cmd->add_option("--result", evaluate.result, "scene graph (.json, .spark.json, .dsgb)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  evaluate_cmd->add_flag("--json", evaluate.json, "print exactly one JSON object on stdout");
+
+  DatasetGraphOptions dataset_graph;
+  CLI::App* dataset_graph_cmd = app.add_subcommand(
+      "dataset-graph", "One robot's final graph from a dataset's stream, in the robot's frame");
+  dataset_graph_cmd->add_option("--dataset", dataset_graph.dataset, "dataset directory")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  dataset_graph_cmd->add_option("--robot", dataset_graph.robot, "robot letter (a, b, ...) or index")
+      ->required();
+  dataset_graph_cmd->add_option("--out", dataset_graph.out, "graph file (.json, .dsgb, .ply, ...)")
+      ->required();
+
   CLI11_PARSE(app, argc, argv);
   if (*info_cmd) return runInfo(info);
   if (*convert_cmd) return runConvert(convert);
   if (*pgo_cmd) return runPgo(pgo);
   if (*ate_cmd) return runAte(ate);
+  if (*simulate_cmd) return runSimulate(simulate);
+  if (*evaluate_cmd) return runEvaluate(evaluate);
+  if (*dataset_graph_cmd) return runDatasetGraph(dataset_graph);
   return 0;
 }

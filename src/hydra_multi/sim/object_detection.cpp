@@ -19,10 +19,20 @@ std::vector<DetectedObject> detectObjects(const World& world, const FreeSpace& s
                                           const std::vector<StampedPose>& keyframes,
                                           const SensorModel& sensor,
                                           const DetectionOptions& options) {
+  return detectObjects(world, space, std::vector<int>(keyframes.size(), floor), keyframes, sensor,
+                       options);
+}
+
+std::vector<DetectedObject> detectObjects(const World& world, const FreeSpace& space,
+                                          const std::vector<int>& floors,
+                                          const std::vector<StampedPose>& keyframes,
+                                          const SensorModel& sensor,
+                                          const DetectionOptions& options) {
   std::map<int, int> views;
   std::map<int, size_t> completed_at;
-  for (size_t k = 0; k < keyframes.size(); ++k) {
-    for (const int id : visibleObjects(world, space, floor, keyframes[k].T_world_body, sensor)) {
+  for (size_t k = 0; k < keyframes.size() && k < floors.size(); ++k) {
+    for (const int id :
+         visibleObjects(world, space, floors[k], keyframes[k].T_world_body, sensor)) {
       if (++views[id] == options.min_views) completed_at[id] = k;
     }
   }

@@ -37,4 +37,11 @@ std::vector<DetectedObject> detectObjects(const World& world, const FreeSpace& s
                                           const SensorModel& sensor = {},
                                           const DetectionOptions& options = {});
 
+/// The same for a robot that changes floors: `floors` holds the floor of every keyframe.
+std::vector<DetectedObject> detectObjects(const World& world, const FreeSpace& space,
+                                          const std::vector<int>& floors,
+                                          const std::vector<StampedPose>& keyframes,
+                                          const SensorModel& sensor = {},
+                                          const DetectionOptions& options = {});
+
 }  // namespace hydra_multi::sim

@@ -34,6 +34,36 @@ std::vector<std::pair<Eigen::Vector3d, uint32_t>> sampleRoomTexture(double w, do
   return points;
 }
 
+// A corridor's texture that repeats every `period` metres along x: one tile of its two long
+// walls, repeated, and texture of its own on the end walls.
+std::vector<std::pair<Eigen::Vector3d, uint32_t>> sampleTiledTexture(double w, double d,
+                                                                     double period,
+                                                                     const TextureOptions& options,
+                                                                     std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::uniform_int_distribution<uint32_t> word(0, options.vocabulary - 1);
+  std::vector<std::pair<Eigen::Vector3d, uint32_t>> tile;
+  const int count = static_cast<int>(std::round(options.points_per_m2 * period * options.wall_height));
+  for (const double y : {-0.5 * d, 0.5 * d}) {
+    for (int i = 0; i < count; ++i)
+      tile.push_back({Eigen::Vector3d(unit(rng) * period, y, unit(rng) * options.wall_height),
+                      word(rng)});
+  }
+  std::vector<std::pair<Eigen::Vector3d, uint32_t>> points;
+  for (double x0 = 0.0; x0 < w; x0 += period) {
+    for (const auto& [p, wd] : tile) {
+      if (x0 + p.x() <= w) points.push_back({Eigen::Vector3d(x0 + p.x() - 0.5 * w, p.y(), p.z()), wd});
+    }
+  }
+  const int end_count = static_cast<int>(std::round(options.points_per_m2 * d * options.wall_height));
+  for (const double x : {-0.5 * w, 0.5 * w}) {
+    for (int i = 0; i < end_count; ++i)
+      points.push_back({Eigen::Vector3d(x, (unit(rng) - 0.5) * d, unit(rng) * options.wall_height),
+                        word(rng)});
+  }
+  return points;
+}
+
 }  // namespace
 
 std::vector<TexturedPoint> generateTextures(const World& world, const TextureOptions& options) {
@@ -51,12 +81,14 @@ std::vector<TexturedPoint> generateTextures(const World& world, const TextureOpt
         it = shared.emplace(room.layout, sampleRoomTexture(size.x(), size.y(), options, rng)).first;
       }
       local = it->second;
+    } else if (room.texture_period > 0.0) {
+      local = sampleTiledTexture(size.x(), size.y(), room.texture_period, options, rng);
     } else {
       local = sampleRoomTexture(size.x(), size.y(), options, rng);
     }
     const Eigen::Isometry3d T_world_room = world.roomFrame(room);
     for (const auto& [p_room, word] : local)
-      textures.push_back({T_world_room * p_room, word, room.id});
+      textures.push_back({T_world_room * p_room, word, room.id, room.floor});
   }
   return textures;
 }
@@ -75,6 +107,7 @@ KeyframeDescriptor describeKeyframe(const std::vector<TexturedPoint>& textures,
   const Eigen::Isometry3d T_body_world = T_world_body.inverse();
   std::map<uint32_t, double> counts;
   for (const TexturedPoint& point : textures) {
+    if (point.floor != floor) continue;  // other floors are behind the slabs
     const Eigen::Vector2d to = point.position.head<2>() - eye;
     const double distance = to.norm();
     if (distance > sensor.range || distance < 1e-6 || forward.dot(to) < cos_half_fov * distance) {

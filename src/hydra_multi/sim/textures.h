@@ -19,6 +19,7 @@ struct TexturedPoint {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< world frame
   uint32_t word = 0;
   int room = 0;
+  int floor = 0;
 };
 
 struct TextureOptions {
@@ -28,8 +29,8 @@ struct TextureOptions {
   uint64_t seed = 1;
 };
 
-/// Textured points on the walls of every room except corridors' (corridors get texture too, but
-/// never a shared one).
+/// Textured points on the walls of every room: rooms that share a layout share their texture,
+/// and a corridor with a texture period (World::Room) repeats its own along its length.
 std::vector<TexturedPoint> generateTextures(const World& world, const TextureOptions& options = {});
 
 /// The descriptor of a keyframe: the textured points within the sensor's range and field of view

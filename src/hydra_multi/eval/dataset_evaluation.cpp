@@ -1,0 +1,277 @@
+#include "hydra_multi/eval/dataset_evaluation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+#include <set>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "hydra_multi/dsg/graph_delta.h"
+#include "hydra_multi/dsg/io/graph_file.h"
+#include "hydra_multi/eval/trajectory_error.h"
+
+namespace hydra_multi {
+namespace {
+
+int64_t cellKey(int x, int y, int floor) {
+  return (static_cast<int64_t>(floor) << 42) ^ (static_cast<int64_t>(x + (1 << 20)) << 21) ^
+         static_cast<int64_t>(y + (1 << 20));
+}
+
+// The true room of every free cell, by cell key.
+std::unordered_map<int64_t, int> roomOfCell(const DatasetGroundTruth& truth) {
+  std::unordered_map<int64_t, int> rooms;
+  for (size_t r = 0; r < truth.room_cells.size(); ++r) {
+    for (const Eigen::Vector3i& c : truth.room_cells[r])
+      rooms[cellKey(c.x(), c.y(), c.z())] = truth.room_ids[r];
+  }
+  return rooms;
+}
+
+int trueRoom(const DatasetGroundTruth& truth, const std::unordered_map<int64_t, int>& rooms,
+             const Eigen::Vector3d& p) {
+  const GroundTruthGrid* grid = truth.gridFor(p.z());
+  if (grid == nullptr) return -1;
+  const Eigen::Vector2i c = grid->cellOf(p.head<2>());
+  const auto it = rooms.find(cellKey(c.x(), c.y(), grid->floor));
+  return it == rooms.end() ? -1 : it->second;
+}
+
+}  // namespace
+
+SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundTruth& truth) {
+  SceneGraphScore score;
+  score.object_threshold_m = truth.object_threshold_m;
+  const Eigen::Isometry3d T_world_global = truth.worldFromGlobal();
+
+  std::vector<Eigen::Vector3d> estimate, reference;
+  for (const NodeId id : graph.nodesInLayer(Layer::kAgents)) {
+    const Node& node = graph.getNode(id);
+    const auto robot = node.robot();
+    const AgentAttributes* agent = node.find<AgentAttributes>();
+    if (!robot || agent == nullptr) continue;
+    if (const Eigen::Isometry3d* T = truth.poseAt(*robot, agent->timestamp_ns)) {
+      estimate.push_back(node.position);
+      reference.push_back(T->translation());
+    }
+  }
+  score.matched_keyframes = estimate.size();
+  if (auto ate = absoluteTrajectoryError(estimate, reference); ate)
+    score.ate_rmse_m = ate.value().statistics.rmse;
+
+  std::vector<LabelledPoint> objects;
+  for (const NodeId id : graph.nodesInLayer(Layer::kObjects)) {
+    const Node& node = graph.getNode(id);
+    objects.push_back({node.semantic()->label, T_world_global * node.position});
+  }
+  score.num_objects = objects.size();
+  const ObjectMetrics object_metrics =
+      objectMetrics(objects, truth.objects, truth.object_threshold_m);
+  score.objects_found_pct = object_metrics.found_pct;
+  score.objects_correct_pct = object_metrics.correct_pct;
+
+  std::vector<Eigen::Vector3d> places;
+  for (const NodeId id : graph.nodesInLayer(Layer::kPlaces))
+    places.push_back(T_world_global * graph.getNode(id).position);
+  score.num_places = places.size();
+  score.places_position_error_m = placesPositionError(places, truth.gvd);
+
+  // Rooms: the true free cells inside the spheres of each room's places.
+  const auto free_cells = roomOfCell(truth);
+  std::vector<std::vector<Eigen::Vector3i>> estimated;
+  for (const NodeId room : graph.nodesInLayer(Layer::kRooms)) {
+    std::vector<Eigen::Vector3i> cells;
+    for (const NodeId child : graph.children(room)) {
+      const Node& place = graph.getNode(child);
+      const PlaceAttributes* attributes = place.find<PlaceAttributes>();
+      if (attributes == nullptr) continue;
+      const Eigen::Vector3d p = T_world_global * place.position;
+      const GroundTruthGrid* grid = truth.gridFor(p.z());
+      if (grid == nullptr) continue;
+      const int reach = static_cast<int>(std::ceil(attributes->distance / grid->resolution));
+      const Eigen::Vector2i centre = grid->cellOf(p.head<2>());
+      for (int dy = -reach; dy <= reach; ++dy) {
+        for (int dx = -reach; dx <= reach; ++dx) {
+          if (std::hypot(dx, dy) * grid->resolution > attributes->distance) continue;
+          const int x = centre.x() + dx, y = centre.y() + dy;
+          if (free_cells.count(cellKey(x, y, grid->floor))) cells.emplace_back(x, y, grid->floor);
+        }
+      }
+    }
+    estimated.push_back(std::move(cells));
+  }
+  score.num_rooms = estimated.size();
+  const RoomMetrics room_metrics = roomMetrics(estimated, truth.room_cells);
+  score.rooms_precision = room_metrics.precision;
+  score.rooms_recall = room_metrics.recall;
+  return score;
+}
+
+SceneGraph combineRobotGraphs(const std::vector<std::pair<RobotId, SceneGraph>>& graphs,
+                              const std::map<RobotId, Eigen::Isometry3d>& T_global_robot) {
+  SceneGraph combined;
+  for (const auto& [robot, graph] : graphs) {
+    const auto pose = T_global_robot.find(robot);
+    const Eigen::Isometry3d T = pose == T_global_robot.end() ? Eigen::Isometry3d::Identity()
+                                                             : pose->second;
+    const auto remap = [&, robot = robot](NodeId id) {
+      if (graph.getNode(id).layer() == Layer::kAgents || id.isStation()) return id;
+      return NodeId::station(id.category(), robot, id.index());
+    };
+    const uint64_t offset = combined.mesh().vertices.size();
+    for (const auto& [id, original] : graph.nodes()) {
+      Node node = original;
+      node.id = remap(id);
+      node.position = T * node.position;
+      if (AgentAttributes* agent = node.find<AgentAttributes>())
+        agent->orientation = Eigen::Quaterniond(T.linear()) * agent->orientation;
+      if (SemanticAttributes* semantic = node.semantic(); semantic && semantic->bounding_box) {
+        // The box of the moved corners.
+        const BoundingBox box = *semantic->bounding_box;
+        BoundingBox moved{Eigen::Vector3d::Constant(1e300), Eigen::Vector3d::Constant(-1e300)};
+        for (int c = 0; c < 8; ++c) {
+          const Eigen::Vector3d corner((c & 1) ? box.max.x() : box.min.x(),
+                                       (c & 2) ? box.max.y() : box.min.y(),
+                                       (c & 4) ? box.max.z() : box.min.z());
+          moved = moved.merged({T * corner, T * corner});
+        }
+        semantic->bounding_box = moved;
+      }
+      if (ObjectAttributes* object = node.find<ObjectAttributes>())
+        for (uint64_t& v : object->mesh_vertices) v += offset;
+      if (PlaceAttributes* place = node.find<PlaceAttributes>())
+        for (uint64_t& v : place->mesh_vertices) v += offset;
+      combined.addOrUpdateNode(std::move(node));
+    }
+    for (const auto& [key, info] : graph.edges())
+      combined.addOrUpdateEdge(remap(key.first()), remap(key.second()), info);
+    for (MeshVertex vertex : graph.mesh().vertices) {
+      vertex.position = (T * vertex.position.cast<double>()).cast<float>();
+      combined.mesh().vertices.push_back(vertex);
+    }
+    for (MeshFace face : graph.mesh().faces) {
+      for (uint32_t& v : face) v += static_cast<uint32_t>(offset);
+      combined.mesh().faces.push_back(face);
+    }
+  }
+  return combined;
+}
+
+Result<DatasetDifficulty> measureDatasetDifficulty(const std::string& dir, size_t top_pairs) {
+  auto loaded = readDatasetGroundTruth(dir);
+  if (!loaded) return Error{loaded.error()};
+  const DatasetGroundTruth& truth = loaded.value();
+  DatasetDifficulty difficulty;
+  difficulty.object_threshold_m = truth.object_threshold_m;
+  const auto free_cells = roomOfCell(truth);
+  // Keyframes count for aliasing inside rooms proper: a corridor is one "room" however long.
+  std::set<int> rooms_proper;
+  for (size_t i = 0; i < truth.room_ids.size(); ++i) {
+    if (truth.room_kinds[i] != "corridor" && truth.room_kinds[i] != "stairwell")
+      rooms_proper.insert(truth.room_ids[i]);
+  }
+  const Eigen::Isometry3d T_global_world = truth.worldFromGlobal().inverse();
+
+  struct Keyframe {
+    RobotId robot;
+    int room = -1;
+    std::vector<BowEntry> bow;
+  };
+  std::vector<Keyframe> keyframes;
+  std::vector<std::pair<RobotId, SceneGraph>> graphs;
+  std::map<RobotId, Eigen::Isometry3d> T_global_robot;
+  std::vector<LabelledPoint> undrifted;  // world frame
+  for (const RobotId robot : truth.robots) {
+    auto updates = io::loadRobotUpdates(truth.streams.at(robot));
+    if (!updates) return Error{updates.error()};
+    SceneGraph graph;
+    std::map<NodeId, int64_t> first_sent;
+    for (const RobotUpdate& update : updates.value()) {
+      if (Status s = applyDelta(graph, update.graph); !s)
+        return Error{truth.streams.at(robot) + ": update " + std::to_string(update.sequence) +
+                     ": " + s.message()};
+      for (const Node& node : update.graph.nodes) first_sent.emplace(node.id, update.time_ns);
+      for (const KeyframeDescriptor& d : update.descriptors) {
+        const Node* agent = graph.findNode(d.keyframe);
+        const AgentAttributes* a = agent ? agent->find<AgentAttributes>() : nullptr;
+        const Eigen::Isometry3d* T = a ? truth.poseAt(robot, a->timestamp_ns) : nullptr;
+        const int room = T ? trueRoom(truth, free_cells, T->translation()) : -1;
+        keyframes.push_back({robot, rooms_proper.count(room) ? room : -1, d.bow});
+      }
+    }
+    // The robot's keyframes by time: true and odometric poses.
+    std::vector<std::pair<int64_t, Eigen::Isometry3d>> corrections;  // T_world_odom at t
+    for (const NodeId id : graph.nodesInLayer(Layer::kAgents)) {
+      const Node& node = graph.getNode(id);
+      const AgentAttributes* a = node.find<AgentAttributes>();
+      const Eigen::Isometry3d* T = truth.poseAt(robot, a->timestamp_ns);
+      if (T == nullptr) continue;
+      Eigen::Isometry3d odom = Eigen::Isometry3d::Identity();
+      odom.linear() = a->orientation.toRotationMatrix();
+      odom.translation() = node.position;
+      corrections.emplace_back(a->timestamp_ns, *T * odom.inverse());
+    }
+    std::sort(corrections.begin(), corrections.end(),
+              [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (const NodeId id : graph.nodesInLayer(Layer::kObjects)) {
+      const Node& node = graph.getNode(id);
+      const int64_t t = first_sent.at(id);
+      auto it = std::upper_bound(corrections.begin(), corrections.end(), t,
+                                 [](int64_t v, const auto& c) { return v < c.first; });
+      if (it == corrections.begin()) continue;
+      --it;
+      undrifted.push_back({node.semantic()->label, it->second * node.position});
+    }
+    T_global_robot[robot] = T_global_world * truth.start_poses.at(robot);
+    graphs.emplace_back(robot, std::move(graph));
+  }
+  difficulty.odometry = evaluateSceneGraph(combineRobotGraphs(graphs, T_global_robot), truth);
+  const ObjectMetrics no_drift = objectMetrics(undrifted, truth.objects, truth.object_threshold_m);
+  difficulty.no_drift.objects_found_pct = no_drift.found_pct;
+  difficulty.no_drift.objects_correct_pct = no_drift.correct_pct;
+  difficulty.no_drift.num_objects = undrifted.size();
+  difficulty.no_drift.object_threshold_m = truth.object_threshold_m;
+
+  // Bag-of-words similarity of inter-robot pairs (sum of shared minima of L1-normalized vectors,
+  // the same as 1 - L1/2), through an inverted index; the best `top_pairs` kept in a heap.
+  std::unordered_map<uint32_t, std::vector<std::pair<size_t, float>>> postings;
+  for (size_t i = 0; i < keyframes.size(); ++i) {
+    if (keyframes[i].room < 0) continue;
+    for (const BowEntry& e : keyframes[i].bow) postings[e.word].emplace_back(i, e.weight);
+  }
+  using Scored = std::pair<double, std::pair<size_t, size_t>>;
+  std::priority_queue<Scored, std::vector<Scored>, std::greater<Scored>> best;
+  std::unordered_map<size_t, double> similarity;
+  for (size_t i = 0; i < keyframes.size(); ++i) {
+    if (keyframes[i].room < 0) continue;
+    similarity.clear();
+    for (const BowEntry& e : keyframes[i].bow) {
+      for (const auto& [j, w] : postings[e.word]) {
+        if (!(keyframes[i].robot < keyframes[j].robot)) continue;  // each pair once, inter-robot
+        similarity[j] += std::min(e.weight, w);
+      }
+    }
+    for (const auto& [j, s] : similarity) {
+      if (best.size() < top_pairs) {
+        best.push({s, {i, j}});
+      } else if (s > best.top().first) {
+        best.pop();
+        best.push({s, {i, j}});
+      }
+    }
+  }
+  difficulty.top_pairs = best.size();
+  size_t aliased = 0;
+  while (!best.empty()) {
+    const auto [i, j] = best.top().second;
+    if (keyframes[i].room != keyframes[j].room) ++aliased;
+    difficulty.top_similarity_mean += best.top().first / double(difficulty.top_pairs);
+    best.pop();
+  }
+  difficulty.aliased_pct =
+      difficulty.top_pairs ? 100.0 * double(aliased) / double(difficulty.top_pairs) : 0.0;
+  return difficulty;
+}
+
+}  // namespace hydra_multi

@@ -1,0 +1,52 @@
+#pragma once
+// Scoring a scene graph against a simulated dataset's ground truth (DESIGN.md "Metrics"):
+//   ATE      over every agent (keyframe) node, matched to its robot's true keyframe by time,
+//            after an SE(3) Umeyama alignment;
+//   objects  % found / % correct at the dataset's threshold (1 m office, 2 m dorm, 3 m
+//            residence), objects taken to the world frame by robot 0's true start pose;
+//   places   mean distance to the nearest true GVD voxel;
+//   rooms    precision / recall over free-space cells: an estimated room holds the true free
+//            cells inside the free-space spheres of its child places.
+// The graph is in the global frame, which is robot 0's odometric frame.
+
+#include <optional>
+#include <string>
+
+#include "hydra_multi/eval/dataset_ground_truth.h"
+
+namespace hydra_multi {
+
+struct SceneGraphScore {
+  std::optional<double> ate_rmse_m;  ///< none with fewer than 3 matched keyframes
+  std::optional<double> objects_found_pct, objects_correct_pct;
+  double object_threshold_m = 1.0;
+  std::optional<double> places_position_error_m;
+  std::optional<double> rooms_precision, rooms_recall;
+  size_t num_objects = 0, num_places = 0, num_rooms = 0;
+  size_t matched_keyframes = 0;
+};
+
+SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundTruth& truth);
+
+/// Every robot's graph in one graph in the global frame, robot r moved by T_global_r (node ids
+/// remapped to station ids naming their robot; mesh vertices appended).
+SceneGraph combineRobotGraphs(const std::vector<std::pair<RobotId, SceneGraph>>& graphs,
+                              const std::map<RobotId, Eigen::Isometry3d>& T_global_robot);
+
+/// What makes a dataset hard, measured on its files:
+struct DatasetDifficulty {
+  /// Of the `top_pairs` inter-robot keyframe pairs with the highest bag-of-words similarity
+  /// (both keyframes inside a true room, not a corridor or stairwell), the share in different
+  /// true rooms.
+  size_t top_pairs = 0;
+  double aliased_pct = 0.0;
+  double top_similarity_mean = 0.0;  ///< their mean similarity (1: identical views)
+  /// The robots' own graphs placed with the true start poses (odometry alone, no loop
+  /// closures), and the same objects placed without drift (each corrected by its robot's true
+  /// pose when it was first sent): how much the drift costs.
+  SceneGraphScore odometry, no_drift;
+  double object_threshold_m = 1.0;
+};
+Result<DatasetDifficulty> measureDatasetDifficulty(const std::string& dir, size_t top_pairs = 100);
+
+}  // namespace hydra_multi

@@ -1,0 +1,200 @@
+#include "hydra_multi/eval/dataset_ground_truth.h"
+
+#include <cmath>
+#include <algorithm>
+#include <filesystem>
+#include <sstream>
+#include <nlohmann/json.hpp>
+
+#include "hydra_multi/dsg/graph_delta.h"
+#include "hydra_multi/dsg/io/graph_file.h"
+#include "hydra_multi/eval/trajectory_error.h"
+
+namespace hydra_multi {
+namespace {
+
+using nlohmann::json;
+
+Result<json> readJson(const std::string& path) {
+  auto text = io::readFile(path);
+  if (!text) return Error{text.error()};
+  json j = json::parse(text.value(), nullptr, false);
+  if (j.is_discarded()) return Error{path + ": not valid JSON"};
+  return j;
+}
+
+Eigen::Vector3d vec3(const json& j) {
+  return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
+}
+
+Eigen::Isometry3d poseOf(const json& j) {
+  const json& q = j.at("quaternion_xyzw");
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::Quaterniond(q.at(3).get<double>(), q.at(0).get<double>(),
+                                  q.at(1).get<double>(), q.at(2).get<double>())
+                   .normalized()
+                   .toRotationMatrix();
+  T.translation() = vec3(j.at("position"));
+  return T;
+}
+
+Result<RobotId> robotOf(const json& j, const std::string& where) {
+  const auto robot = RobotId::parse(j.get<std::string>());
+  if (!robot) return Error{where + ": unknown robot '" + j.get<std::string>() + "'"};
+  return *robot;
+}
+
+// Full TUM poses (trajectory_error.h reads positions only).
+Result<DatasetGroundTruth::Trajectory> readTumPoses(const std::string& path) {
+  auto text = io::readFile(path);
+  if (!text) return Error{text.error()};
+  DatasetGroundTruth::Trajectory trajectory;
+  std::istringstream in(text.value());
+  std::string line;
+  size_t number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    std::string stamp;
+    double v[7];
+    fields >> stamp;
+    for (double& x : v) fields >> x;
+    const size_t dot = stamp.find('.');
+    if (!fields || dot == std::string::npos)
+      return Error{path + ":" + std::to_string(number) + ": expected t x y z qx qy qz qw"};
+    const int64_t seconds = std::stoll(stamp.substr(0, dot));
+    std::string fraction = stamp.substr(dot + 1);
+    fraction.resize(9, '0');
+    trajectory.stamps_ns.push_back(seconds * 1000000000 + std::stoll(fraction));
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() << v[0], v[1], v[2];
+    T.linear() = Eigen::Quaterniond(v[6], v[3], v[4], v[5]).normalized().toRotationMatrix();
+    trajectory.poses.push_back(T);
+  }
+  return trajectory;
+}
+
+}  // namespace
+
+Eigen::Vector2i GroundTruthGrid::cellOf(const Eigen::Vector2d& p) const {
+  const Eigen::Vector2d c = (p - origin) / resolution;
+  return {static_cast<int>(std::floor(c.x())), static_cast<int>(std::floor(c.y()))};
+}
+
+const Eigen::Isometry3d* DatasetGroundTruth::poseAt(RobotId robot, int64_t stamp_ns) const {
+  const auto it = trajectories.find(robot);
+  if (it == trajectories.end()) return nullptr;
+  const auto& stamps = it->second.stamps_ns;
+  const auto pos = std::lower_bound(stamps.begin(), stamps.end(), stamp_ns - 1000000);
+  if (pos == stamps.end() || std::llabs(*pos - stamp_ns) > 1000000) return nullptr;
+  return &it->second.poses[static_cast<size_t>(pos - stamps.begin())];
+}
+
+const GroundTruthGrid* DatasetGroundTruth::gridFor(double z) const {
+  const GroundTruthGrid* best = nullptr;
+  for (const GroundTruthGrid& g : grids) {
+    if (g.z <= z - 0.5 && (best == nullptr || g.z > best->z)) best = &g;
+  }
+  if (best == nullptr && !grids.empty()) best = &grids.front();
+  return best;
+}
+
+Eigen::Isometry3d DatasetGroundTruth::worldFromGlobal() const {
+  if (robots.empty()) return Eigen::Isometry3d::Identity();
+  const auto it = start_poses.find(robots.front());
+  return it == start_poses.end() ? Eigen::Isometry3d::Identity() : it->second;
+}
+
+Result<DatasetGroundTruth> readDatasetGroundTruth(const std::string& dir) {
+  namespace fs = std::filesystem;
+  DatasetGroundTruth gt;
+  gt.dir = dir;
+  const std::string header_path = (fs::path(dir) / "dataset.json").string();
+  std::string where;
+  try {
+    where = header_path;
+    auto header = readJson(header_path);
+    if (!header) return Error{header.error() + " (is " + dir + " a dataset written by simulate?)"};
+    const json& h = header.value();
+    if (h.value("format", "") != "hydra-multi-dataset")
+      return Error{header_path + ": not a hydra-multi dataset (format field)"};
+    gt.object_threshold_m = h.at("object_threshold_m").get<double>();
+    for (const json& r : h.at("robots")) {
+      auto robot = robotOf(r.at("robot"), header_path);
+      if (!robot) return Error{robot.error()};
+      gt.robots.push_back(robot.value());
+      gt.streams[robot.value()] = (fs::path(dir) / r.at("stream").get<std::string>()).string();
+    }
+    const fs::path g = fs::path(dir) / "gt";
+    where = (g / "start_poses.json").string();
+    auto starts = readJson(where);
+    if (!starts) return Error{starts.error()};
+    for (const json& s : starts.value().at("robots")) {
+      auto robot = robotOf(s.at("robot"), where);
+      if (!robot) return Error{robot.error()};
+      gt.start_poses[robot.value()] = poseOf(s);
+    }
+    for (const RobotId robot : gt.robots) {
+      auto trajectory = readTumPoses((g / "trajectories" / (robot.str() + ".tum")).string());
+      if (!trajectory) return Error{trajectory.error()};
+      gt.trajectories[robot] = std::move(trajectory).value();
+    }
+    where = (g / "objects.json").string();
+    auto objects = readJson(where);
+    if (!objects) return Error{objects.error()};
+    for (const json& o : objects.value().at("objects"))
+      gt.objects.push_back({o.at("label").get<uint32_t>(), vec3(o.at("position"))});
+    where = (g / "gvd.json").string();
+    auto gvd = readJson(where);
+    if (!gvd) return Error{gvd.error()};
+    const json& xyz = gvd.value().at("points_xyz");
+    if (xyz.size() % 3 != 0) return Error{where + ": points_xyz is not a list of triples"};
+    for (size_t i = 0; i < xyz.size(); i += 3)
+      gt.gvd.emplace_back(xyz[i].get<double>(), xyz[i + 1].get<double>(), xyz[i + 2].get<double>());
+    where = (g / "rooms.json").string();
+    auto rooms = readJson(where);
+    if (!rooms) return Error{rooms.error()};
+    for (const json& f : rooms.value().at("floors")) {
+      GroundTruthGrid grid;
+      grid.floor = f.at("floor").get<int>();
+      grid.z = f.at("z").get<double>();
+      grid.origin << f.at("origin").at(0).get<double>(), f.at("origin").at(1).get<double>();
+      grid.resolution = f.at("resolution").get<double>();
+      grid.width = f.at("width").get<int>();
+      grid.height = f.at("height").get<int>();
+      gt.grids.push_back(grid);
+    }
+    for (const json& r : rooms.value().at("rooms")) {
+      gt.room_ids.push_back(r.at("id").get<int>());
+      gt.room_kinds.push_back(r.at("kind").get<std::string>());
+      const int floor = r.at("floor").get<int>();
+      const json& cells = r.at("cells_xy");
+      std::vector<Eigen::Vector3i> keys;
+      for (size_t i = 0; i + 1 < cells.size(); i += 2)
+        keys.emplace_back(cells[i].get<int>(), cells[i + 1].get<int>(), floor);
+      gt.room_cells.push_back(std::move(keys));
+    }
+  } catch (const json::exception& e) {
+    return Error{where + ": missing or malformed field (" + std::string(e.what()) + ")"};
+  } catch (const std::exception& e) {
+    return Error{where + ": " + e.what()};
+  }
+  return gt;
+}
+
+Result<SceneGraph> replayRobotGraph(const DatasetGroundTruth& dataset, RobotId robot) {
+  const auto it = dataset.streams.find(robot);
+  if (it == dataset.streams.end())
+    return Error{"robot " + robot.str() + " is not in the dataset " + dataset.dir};
+  auto updates = io::loadRobotUpdates(it->second);
+  if (!updates) return Error{updates.error()};
+  SceneGraph graph;
+  for (const RobotUpdate& update : updates.value()) {
+    if (Status s = applyDelta(graph, update.graph); !s)
+      return Error{it->second + ": update " + std::to_string(update.sequence) + ": " + s.message()};
+  }
+  return graph;
+}
+
+}  // namespace hydra_multi
