@@ -15,7 +15,7 @@
 namespace hydra_multi::sim {
 namespace {
 
-using nlohmann::json;
+using json = nlohmann::ordered_json;
 namespace fs = std::filesystem;
 
 double pathLength(const std::vector<StampedPose>& truth) {
@@ -29,8 +29,8 @@ std::string robotDir(RobotId robot) { return "robots/" + robot.str(); }
 
 }  // namespace
 
-Result<SimulatedDataset> simulateDataset(const SimulationConfig& config,
-                                         const ProgressCallback& progress) {
+Result<SimulatedDataset> planDataset(const SimulationConfig& config,
+                                     const ProgressCallback& progress) {
   const auto say = [&](const std::string& line) {
     if (progress) progress(line);
   };
@@ -85,6 +85,16 @@ Result<SimulatedDataset> simulateDataset(const SimulationConfig& config,
         std::to_string(run.truth.size()) + " keyframes");
     dataset.runs.push_back(std::move(run));
   }
+  return dataset;
+}
+
+void mapDataset(SimulatedDataset& dataset, const ProgressCallback& progress) {
+  const auto say = [&](const std::string& line) {
+    if (progress) progress(line);
+  };
+  const SimulationConfig& config = dataset.config;
+  const SensedWorld& sensed = *dataset.sensed;
+  dataset.streams.clear();
   // The robots map independently: one task each.
   std::vector<std::future<std::vector<RobotUpdate>>> tasks;
   for (const RobotRun& run : dataset.runs) {
@@ -99,6 +109,13 @@ Result<SimulatedDataset> simulateDataset(const SimulationConfig& config,
     say("robot " + dataset.runs[r].robot.str() + ": mapped, " +
         std::to_string(dataset.streams.back().size()) + " updates");
   }
+}
+
+Result<SimulatedDataset> simulateDataset(const SimulationConfig& config,
+                                         const ProgressCallback& progress) {
+  auto dataset = planDataset(config, progress);
+  if (!dataset) return dataset;
+  mapDataset(dataset.value(), progress);
   return dataset;
 }
 
@@ -259,6 +276,15 @@ std::string tumLines(const std::vector<StampedPose>& truth) {
 Status writeDataset(const SimulatedDataset& dataset, const std::string& dir) {
   const fs::path root(dir);
   std::error_code ec;
+  // Into an empty or new folder, or over an earlier dataset (whose robots/ and gt/ go first, so
+  // that nothing stale stays); never into a folder of something else.
+  if (fs::exists(root, ec) && !fs::is_empty(root, ec)) {
+    if (!fs::exists(root / "dataset.json", ec))
+      return Error{dir + " holds files but no dataset.json: not overwriting it (choose a new or "
+                         "empty folder)"};
+    fs::remove_all(root / "robots", ec);
+    fs::remove_all(root / "gt", ec);
+  }
   fs::create_directories(root / "gt" / "trajectories", ec);
   if (ec) return Error{"cannot create " + (root / "gt").string() + ": " + ec.message()};
   const SimulationConfig& c = dataset.config;

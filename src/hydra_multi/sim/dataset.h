@@ -34,6 +34,12 @@ struct SimulatedDataset {
 /// Called with a line of progress (what is being done).
 using ProgressCallback = std::function<void(const std::string&)>;
 
+/// The world, the team's plans and every robot's true run (trajectory, odometry, loop closures).
+Result<SimulatedDataset> planDataset(const SimulationConfig& config,
+                                     const ProgressCallback& progress = {});
+/// Every robot's update stream (robots in parallel).
+void mapDataset(SimulatedDataset& dataset, const ProgressCallback& progress = {});
+/// planDataset, then mapDataset.
 Result<SimulatedDataset> simulateDataset(const SimulationConfig& config,
                                          const ProgressCallback& progress = {});
 
@@ -54,7 +60,8 @@ struct RobotRunSummary {
 /// Replays every stream into the robot's graph (checking each update) and summarizes it.
 Result<std::vector<RobotRunSummary>> summarizeDataset(const SimulatedDataset& dataset);
 
-/// Writes the dataset into `dir` (created if missing; existing files are replaced).
+/// Writes the dataset into `dir`: a new or empty folder, or one that holds an earlier dataset
+/// (replaced); a folder with other files is refused.
 Status writeDataset(const SimulatedDataset& dataset, const std::string& dir);
 
 }  // namespace hydra_multi::sim

@@ -2,23 +2,56 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <string>
 
 namespace hydra_multi::sim {
 
-Result<Eigen::Vector2d> roomStandpoint(const FloorGrid& grid, int room) {
+Result<Eigen::Vector2d> roomStandpoint(const FloorGrid& grid, int room,
+                                       const std::optional<Eigen::Vector2d>& reachable_from,
+                                       double robot_radius) {
+  std::vector<uint8_t> reached;
+  if (reachable_from) {
+    // Flood fill over the cells the robot fits in, 8-connected as the planner drives.
+    const auto fits = [&](int x, int y) {
+      return grid.inside(x, y) && !grid.occupied[grid.index(x, y)] &&
+             grid.clearance[grid.index(x, y)] >= robot_radius;
+    };
+    reached.assign(grid.occupied.size(), 0);
+    const Eigen::Vector2i seed = grid.cellOf(*reachable_from);
+    std::deque<Eigen::Vector2i> queue;
+    if (fits(seed.x(), seed.y())) {
+      reached[grid.index(seed.x(), seed.y())] = 1;
+      queue.push_back(seed);
+    }
+    while (!queue.empty()) {
+      const Eigen::Vector2i c = queue.front();
+      queue.pop_front();
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int x = c.x() + dx, y = c.y() + dy;
+          if (!fits(x, y) || reached[grid.index(x, y)]) continue;
+          reached[grid.index(x, y)] = 1;
+          queue.emplace_back(x, y);
+        }
+      }
+    }
+  }
   double best = -1.0;
   Eigen::Vector2d point = Eigen::Vector2d::Zero();
   for (int y = 0; y < grid.height; ++y) {
     for (int x = 0; x < grid.width; ++x) {
       const size_t i = grid.index(x, y);
-      if (grid.room[i] == room && grid.clearance[i] > best) {
+      if (grid.room[i] == room && grid.clearance[i] > best && (reached.empty() || reached[i])) {
         best = grid.clearance[i];
         point = grid.cellCenter(x, y);
       }
     }
   }
-  if (best < 0.0) return Error{"room " + std::to_string(room) + " has no free cell on this floor"};
+  if (best < 0.0) {
+    return Error{"room " + std::to_string(room) + " has no free cell" +
+                 (reachable_from ? " reachable" : "") + " on this floor"};
+  }
   return point;
 }
 
@@ -55,7 +88,7 @@ Result<std::vector<Eigen::Vector2d>> planRoomTour(const World& world, const Floo
     if (room_id < 0 || static_cast<size_t>(room_id) >= world.rooms.size()) {
       return Error{"tour: no room " + std::to_string(room_id)};
     }
-    auto centre = roomStandpoint(grid, room_id);
+    auto centre = roomStandpoint(grid, room_id, tour.back(), options.robot_radius);
     if (!centre) return Error{"tour: " + centre.error()};
     if (Status s = driveTo(centre.value()); !s)
       return Error{"tour to room " + std::to_string(room_id) + ": " + s.message()};

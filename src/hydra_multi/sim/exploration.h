@@ -4,6 +4,7 @@
 // an ordinary room), along collision-free paths (path_planner.h); rooms on another floor are
 // reached by the stairs (World::stairs). Which robot visits which rooms is the preset's choice.
 
+#include <optional>
 #include <vector>
 
 #include "hydra_multi/core/result.h"
@@ -11,8 +12,12 @@
 
 namespace hydra_multi::sim {
 
-/// The free cell of `room` with the most clearance (a good place to stand in it).
-Result<Eigen::Vector2d> roomStandpoint(const FloorGrid& grid, int room);
+/// The free cell of `room` with the most clearance (a good place to stand in it). With
+/// `reachable_from`, only cells a robot of `robot_radius` can drive to from there count
+/// (furniture may wall off part of a room).
+Result<Eigen::Vector2d> roomStandpoint(const FloorGrid& grid, int room,
+                                       const std::optional<Eigen::Vector2d>& reachable_from = {},
+                                       double robot_radius = 0.25);
 
 /// The path of a tour on one floor: start, then every room of `rooms` in order.
 Result<std::vector<Eigen::Vector2d>> planRoomTour(const World& world, const FloorGrid& grid,

@@ -156,7 +156,16 @@ Result<std::vector<RobotPlan>> planTeam(const World& world, const FreeSpace& spa
     if (config.return_to_start && plan.rooms.size() > 1) plan.rooms.push_back(plan.rooms.front());
     const Room& first = world.room(plan.rooms.front());
     plan.start_floor = first.floor;
-    auto start = roomStandpoint(space.floors.at(static_cast<size_t>(first.floor)), first.id);
+    // Where a robot can stand in its first room and still drive out: reachable from the
+    // corridor.
+    const FloorGrid& grid = space.floors.at(static_cast<size_t>(first.floor));
+    int corridor = -1;
+    for (const Room& room : world.rooms) {
+      if (room.floor == first.floor && room.kind == RoomKind::kCorridor) corridor = room.id;
+    }
+    auto hall = roomStandpoint(grid, corridor);
+    if (!hall) return Error{"team plan: " + hall.error()};
+    auto start = roomStandpoint(grid, first.id, hall.value(), config.planner.robot_radius);
     if (!start) return Error{"team plan: robot " + std::to_string(r) + ": " + start.error()};
     plan.start = start.value();
   }
