@@ -103,7 +103,7 @@ double meanStraightDrift(double length) {
   return 100.0 * drift_sum / 20.0 / length;
 }
 
-// Noise-free odometry is the truth seen from the start; noisy odometry drifts by 1-2 % of a
+// Noise-free odometry is the truth seen from the start; noisy odometry drifts by 1.5-3 % of a
 // straight 100 m path (mean over 20 seeds), more in proportion on a longer one (the yaw bias),
 // and is the same for the same seed.
 TEST(Trajectory, OdometryDrift) {
@@ -123,8 +123,8 @@ TEST(Trajectory, OdometryDrift) {
   const auto once = simulateOdometry(truth, noise), again = simulateOdometry(truth, noise);
   EXPECT_EQ(once.back().matrix(), again.back().matrix());
   const double drift_100 = meanStraightDrift(100.0);
-  EXPECT_GT(drift_100, 1.0);
-  EXPECT_LT(drift_100, 2.0);
+  EXPECT_GT(drift_100, 1.5);
+  EXPECT_LT(drift_100, 3.0);
   EXPECT_GT(meanStraightDrift(300.0), drift_100);
 }
 
