@@ -9,7 +9,7 @@ DATA ?= ../shared/data
 
 CMAKE_FLAGS = -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DHYDRA_MULTI_WERROR=$(WERROR)
 
-.PHONY: all deps build test test-sanitize demo bench bench-robust format clean
+.PHONY: all deps build test test-sanitize demo bench bench-robust bench-sim format clean
 
 all: build
 
@@ -41,6 +41,11 @@ bench: deps
 # Robust estimation on real data and injected outliers (several minutes).
 bench-robust: build
 	@./scripts/bench_robust.sh $(BUILD_DIR)/hydra-multi $(DATA)
+
+# Every simulated preset: generation time, size, drift and aliasing (SEEDS="1 2 3" for more).
+SEEDS ?= 1
+bench-sim: build
+	@./scripts/bench_simulate.sh $(BUILD_DIR)/hydra-multi out/bench-sim "$(SEEDS)"
 
 demo: build
 	@./scripts/demo.sh $(BUILD_DIR)/hydra-multi $(DATA) $(DEMO_OUT)
