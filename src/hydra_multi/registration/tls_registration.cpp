@@ -1,0 +1,84 @@
+#include "hydra_multi/registration/tls_registration.h"
+
+#include <cmath>
+
+#include "hydra_multi/optim/gnc.h"
+#include "hydra_multi/registration/closed_form.h"
+#include "hydra_multi/registration/max_clique.h"
+
+namespace hydra_multi {
+
+Result<RegistrationResult> tlsRegistration(const std::vector<Eigen::Vector3d>& source,
+                                           const std::vector<Eigen::Vector3d>& target,
+                                           const TlsRegistrationOptions& options) {
+  if (source.size() != target.size())
+    return Error{"tls registration: " + std::to_string(source.size()) + " source and " +
+                 std::to_string(target.size()) + " target points"};
+  const size_t n = source.size();
+  const size_t needed = std::max<size_t>(3, options.min_inliers);
+  if (n < needed)
+    return Error{"tls registration: " + std::to_string(n) + " correspondences, fewer than " +
+                 std::to_string(needed)};
+  // 1-2: pairwise consistency and its maximum clique.
+  std::vector<std::vector<size_t>> adjacency(n);
+  for (size_t i = 0; i < n; ++i) {
+    for (size_t j = i + 1; j < n; ++j) {
+      const double ds = (source[i] - source[j]).norm(), dt = (target[i] - target[j]).norm();
+      if (std::abs(ds - dt) <= 2.0 * options.noise_bound) {
+        adjacency[i].push_back(j);
+        adjacency[j].push_back(i);
+      }
+    }
+  }
+  const std::vector<size_t> clique = maximumClique(adjacency, options.max_clique_steps).members;
+  if (clique.size() < needed)
+    return Error{"tls registration: the largest consistent set has " +
+                 std::to_string(clique.size()) + " correspondences, fewer than " +
+                 std::to_string(needed)};
+  std::vector<Eigen::Vector3d> src, dst;
+  for (const size_t i : clique) {
+    src.push_back(source[i]);
+    dst.push_back(target[i]);
+  }
+  // 3: GNC-TLS over the clique; residuals normalized by the noise bound (c = 1).
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  bool solved = false;
+  const auto solve = [&](const std::vector<double>& weights) {
+    WeightedSolution solution;
+    if (const auto fit = weightedRigidAlignment(src, dst, weights)) {
+      T = *fit;
+      solved = true;
+    }
+    for (size_t i = 0; i < src.size(); ++i) {
+      const double r2 = (T * src[i] - dst[i]).squaredNorm() / std::pow(options.noise_bound, 2);
+      solution.squared_residuals.push_back(r2);
+      solution.cost += (weights.empty() ? 1.0 : weights[i]) * r2;
+    }
+    return solution;
+  };
+  GncOptions gnc;
+  gnc.inlier_threshold_sq = 1.0;
+  const GncResult result = runGnc(src.size(), solve, gnc);
+  if (!solved) return Error{"tls registration: the consistent correspondences are degenerate"};
+  RegistrationResult registration;
+  std::vector<Eigen::Vector3d> in_src, in_dst;
+  for (size_t k = 0; k < clique.size(); ++k) {
+    if (!result.inliers[k]) continue;
+    registration.inliers.push_back(clique[k]);
+    in_src.push_back(src[k]);
+    in_dst.push_back(dst[k]);
+  }
+  if (registration.inliers.size() < needed)
+    return Error{"tls registration: " + std::to_string(registration.inliers.size()) +
+                 " inliers, fewer than " + std::to_string(needed)};
+  // 4: refit on the inliers.
+  const auto refit = weightedRigidAlignment(in_src, in_dst);
+  if (!refit) return Error{"tls registration: the inliers are degenerate (collinear)"};
+  registration.T_target_source = *refit;
+  double sum = 0.0;
+  for (size_t k = 0; k < in_src.size(); ++k) sum += (*refit * in_src[k] - in_dst[k]).squaredNorm();
+  registration.rmse = std::sqrt(sum / double(in_src.size()));
+  return registration;
+}
+
+}  // namespace hydra_multi
