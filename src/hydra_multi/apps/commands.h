@@ -78,6 +78,13 @@ struct DatasetGraphOptions {
 };
 int runDatasetGraph(const DatasetGraphOptions& options);
 
+struct DetectOptions {
+  std::string dataset;
+  bool json = false;
+  bool quiet = false;  ///< no progress lines on stderr
+};
+int runDetect(const DetectOptions& options);
+
 /// Prints "hydra-multi: error: <message>" on stderr and returns 1.
 int fail(const std::string& message);
 

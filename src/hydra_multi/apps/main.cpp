@@ -144,6 +144,15 @@ int main(int argc, char** argv) {
   dataset_graph_cmd->add_option("--out", dataset_graph.out, "graph file (.json, .dsgb, .ply, ...)")
       ->required();
 
+  DetectOptions detect;
+  CLI::App* detect_cmd = app.add_subcommand(
+      "detect", "The frontend alone over a dataset: processor and loop-closure detection, timed");
+  detect_cmd->add_option("--dataset", detect.dataset, "dataset directory (from simulate)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  detect_cmd->add_flag("--json", detect.json, "print exactly one JSON object on stdout");
+  detect_cmd->add_flag("--quiet", detect.quiet, "no progress lines on stderr");
+
   CLI11_PARSE(app, argc, argv);
   if (*info_cmd) return runInfo(info);
   if (*convert_cmd) return runConvert(convert);
@@ -152,5 +161,6 @@ int main(int argc, char** argv) {
   if (*simulate_cmd) return runSimulate(simulate);
   if (*evaluate_cmd) return runEvaluate(evaluate);
   if (*dataset_graph_cmd) return runDatasetGraph(dataset_graph);
+  if (*detect_cmd) return runDetect(detect);
   return 0;
 }

@@ -113,8 +113,8 @@ SceneGraph combineRobotGraphs(const std::vector<std::pair<RobotId, SceneGraph>>&
   SceneGraph combined;
   for (const auto& [robot, graph] : graphs) {
     const auto pose = T_global_robot.find(robot);
-    const Eigen::Isometry3d T = pose == T_global_robot.end() ? Eigen::Isometry3d::Identity()
-                                                             : pose->second;
+    const Eigen::Isometry3d T =
+        pose == T_global_robot.end() ? Eigen::Isometry3d::Identity() : pose->second;
     const auto remap = [&, robot = robot](NodeId id) {
       if (graph.getNode(id).layer() == Layer::kAgents || id.isStation()) return id;
       return NodeId::station(id.category(), robot, id.index());
@@ -156,6 +156,22 @@ SceneGraph combineRobotGraphs(const std::vector<std::pair<RobotId, SceneGraph>>&
     }
   }
   return combined;
+}
+
+LoopClosureCheck checkLoopClosure(const DatasetGroundTruth& truth, RobotId robot_a, int64_t stamp_a,
+                                  RobotId robot_b, int64_t stamp_b, const Eigen::Isometry3d& T_a_b,
+                                  double max_translation_m, double max_rotation_deg) {
+  LoopClosureCheck check;
+  const Eigen::Isometry3d* a = truth.poseAt(robot_a, stamp_a);
+  const Eigen::Isometry3d* b = truth.poseAt(robot_b, stamp_b);
+  if (a == nullptr || b == nullptr) return check;
+  check.known = true;
+  const Eigen::Isometry3d error = (a->inverse() * *b).inverse() * T_a_b;
+  check.translation_error_m = error.translation().norm();
+  check.rotation_error_deg = Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI;
+  check.correct = check.translation_error_m <= max_translation_m &&
+                  check.rotation_error_deg <= max_rotation_deg;
+  return check;
 }
 
 Result<DatasetDifficulty> measureDatasetDifficulty(const std::string& dir, size_t top_pairs) {

@@ -33,6 +33,17 @@ SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundT
 SceneGraph combineRobotGraphs(const std::vector<std::pair<RobotId, SceneGraph>>& graphs,
                               const std::map<RobotId, Eigen::Isometry3d>& T_global_robot);
 
+/// Whether a loop closure between two robots' keyframes (given by their timestamps) is right:
+/// its relative pose T_a_b within max_translation_m and max_rotation_deg of the true one.
+struct LoopClosureCheck {
+  bool known = false;  ///< both keyframes found in the ground truth
+  bool correct = false;
+  double translation_error_m = 0.0, rotation_error_deg = 0.0;
+};
+LoopClosureCheck checkLoopClosure(const DatasetGroundTruth& truth, RobotId robot_a, int64_t stamp_a,
+                                  RobotId robot_b, int64_t stamp_b, const Eigen::Isometry3d& T_a_b,
+                                  double max_translation_m = 1.0, double max_rotation_deg = 10.0);
+
 /// What makes a dataset hard, measured on its files:
 struct DatasetDifficulty {
   /// Of the `top_pairs` inter-robot keyframe pairs with the highest bag-of-words similarity

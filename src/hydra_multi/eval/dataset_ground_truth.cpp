@@ -1,10 +1,10 @@
 #include "hydra_multi/eval/dataset_ground_truth.h"
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
-#include <sstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "hydra_multi/dsg/graph_delta.h"
 #include "hydra_multi/dsg/io/graph_file.h"

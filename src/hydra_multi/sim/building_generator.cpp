@@ -68,8 +68,8 @@ std::vector<Placement> sampleLayout(RoomKind kind, double width, double depth,
   std::vector<Rect> taken;
   // The door zone: the full width of the room, kDoorClearance deep from the door wall.
   taken.push_back({{-0.5 * width, -0.5 * depth}, {0.5 * width, -0.5 * depth + kDoorClearance}});
-  const auto groups = kind == RoomKind::kOpenSpace ? openSpaceGroups(width * depth)
-                                                   : furnitureGroups(kind);
+  const auto groups =
+      kind == RoomKind::kOpenSpace ? openSpaceGroups(width * depth) : furnitureGroups(kind);
   for (const auto& group : groups) {
     const Eigen::Vector3d size = sizes.at(group.front());
     for (int attempt = 0; attempt < 200; ++attempt) {
@@ -159,8 +159,8 @@ Result<World> generateBuilding(const BuildingOptions& options) {
     std::vector<Slot> slots;
     for (int i = 0; i < options.rooms_per_side; ++i) {
       const bool stairwell = options.floors > 1 && i == options.rooms_per_side - 1;
-      const bool kitchen = options.kitchen_every > 0 &&
-                           i % options.kitchen_every == options.kitchen_every - 1;
+      const bool kitchen =
+          options.kitchen_every > 0 && i % options.kitchen_every == options.kitchen_every - 1;
       slots.push_back({0, i * (w + t), w,
                        stairwell ? RoomKind::kStairwell
                        : kitchen ? RoomKind::kKitchen
@@ -237,8 +237,8 @@ Result<World> generateBuilding(const BuildingOptions& options) {
       const Eigen::Vector2d c = lower.footprint.center();
       const double half = 0.5 * lower.footprint.size().y();
       // Side 0 rooms have their door at +y: the stairs start there and rise towards -y.
-      world.stairs.push_back({lower.id, upper.id, {c.x(), c.y() + half - 1.2},
-                              {c.x(), c.y() - half + 0.8}});
+      world.stairs.push_back(
+          {lower.id, upper.id, {c.x(), c.y() + half - 1.2}, {c.x(), c.y() - half + 0.8}});
     }
   }
   return world;

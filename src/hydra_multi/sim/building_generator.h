@@ -2,10 +2,10 @@
 // Procedural buildings: on every floor a straight corridor with rooms on both sides, one door per
 // room onto the corridor (two for a wide open space), and furniture by room kind. The far side
 // may instead hold a few large open-plan rooms; on buildings of several floors the last room of
-// the near side is a stairwell on every floor, with stairs between each floor and the next. Furniture is placed in a room frame (origin
-// at the room's centre, x along the corridor, y away from the door) by rejection sampling without
-// overlaps and clear of the door, so rooms that share a layout are identical in that frame: the
-// perceptual aliasing of the paper's Simmons data.
+// the near side is a stairwell on every floor, with stairs between each floor and the next.
+// Furniture is placed in a room frame (origin at the room's centre, x along the corridor, y away
+// from the door) by rejection sampling without overlaps and clear of the door, so rooms that share
+// a layout are identical in that frame: the perceptual aliasing of the paper's Simmons data.
 
 #include <cstdint>
 

@@ -21,7 +21,8 @@ namespace fs = std::filesystem;
 double pathLength(const std::vector<StampedPose>& truth) {
   double length = 0.0;
   for (size_t k = 1; k < truth.size(); ++k)
-    length += (truth[k].T_world_body.translation() - truth[k - 1].T_world_body.translation()).norm();
+    length +=
+        (truth[k].T_world_body.translation() - truth[k - 1].T_world_body.translation()).norm();
   return length;
 }
 
@@ -60,7 +61,8 @@ Result<SimulatedDataset> planDataset(const SimulationConfig& config,
     const RobotPlan& plan = dataset.plans[static_cast<size_t>(r)];
     auto tour = planBuildingTour(sensed.world, sensed.space, plan.start_floor, plan.start,
                                  plan.rooms, config.planner);
-    if (!tour) return Error{"robot " + RobotId(static_cast<uint8_t>(r)).str() + ": " + tour.error()};
+    if (!tour)
+      return Error{"robot " + RobotId(static_cast<uint8_t>(r)).str() + ": " + tour.error()};
     RobotRun run;
     run.robot = RobotId(static_cast<uint8_t>(r));
     run.sensor = config.sensors[static_cast<size_t>(r)];
@@ -79,8 +81,8 @@ Result<SimulatedDataset> planDataset(const SimulationConfig& config,
     LoopClosureOptions closures = config.loop_closures;
     closures.seed = config.loop_closures.seed * 101 + static_cast<uint64_t>(r);
     run.loop_closures = simulateLoopClosures(sensed.world, run.truth, rooms, closures);
-    say("robot " + run.robot.str() + " (" + run.sensor.kind + "): " +
-        std::to_string(plan.rooms.size()) + " rooms, " +
+    say("robot " + run.robot.str() + " (" + run.sensor.kind +
+        "): " + std::to_string(plan.rooms.size()) + " rooms, " +
         std::to_string(static_cast<int>(pathLength(run.truth))) + " m, " +
         std::to_string(run.truth.size()) + " keyframes");
     dataset.runs.push_back(std::move(run));
@@ -199,8 +201,7 @@ json parametersJson(const SimulationConfig& c) {
        {{"resolution_m", c.free_space.resolution},
         {"gvd_site_separation_m", c.free_space.gvd_site_separation},
         {"gvd_min_clearance_m", c.free_space.gvd_min_clearance}}},
-      {"surfaces",
-       {{"spacing_m", c.surfaces.spacing}, {"door_height_m", c.surfaces.door_height}}},
+      {"surfaces", {{"spacing_m", c.surfaces.spacing}, {"door_height_m", c.surfaces.door_height}}},
       {"textures",
        {{"points_per_m2", c.textures.points_per_m2},
         {"vocabulary", c.textures.vocabulary},
@@ -259,8 +260,8 @@ Status writeText(const fs::path& path, const std::string& text) {
 
 std::string tumLines(const std::vector<StampedPose>& truth) {
   std::ostringstream out;
-  out << "# true keyframe poses, world frame: t x y z qx qy qz qw\n" << std::setprecision(9)
-      << std::fixed;
+  out << "# true keyframe poses, world frame: t x y z qx qy qz qw\n"
+      << std::setprecision(9) << std::fixed;
   for (const StampedPose& p : truth) {
     const Eigen::Quaterniond q(p.T_world_body.linear());
     const Eigen::Vector3d t = p.T_world_body.translation();
@@ -280,8 +281,9 @@ Status writeDataset(const SimulatedDataset& dataset, const std::string& dir) {
   // that nothing stale stays); never into a folder of something else.
   if (fs::exists(root, ec) && !fs::is_empty(root, ec)) {
     if (!fs::exists(root / "dataset.json", ec))
-      return Error{dir + " holds files but no dataset.json: not overwriting it (choose a new or "
-                         "empty folder)"};
+      return Error{dir +
+                   " holds files but no dataset.json: not overwriting it (choose a new or "
+                   "empty folder)"};
     fs::remove_all(root / "robots", ec);
     fs::remove_all(root / "gt", ec);
   }
@@ -294,9 +296,11 @@ Status writeDataset(const SimulatedDataset& dataset, const std::string& dir) {
   for (size_t r = 0; r < dataset.runs.size(); ++r) {
     const RobotRun& run = dataset.runs[r];
     fs::create_directories(root / robotDir(run.robot), ec);
-    if (ec) return Error{"cannot create " + (root / robotDir(run.robot)).string() + ": " + ec.message()};
+    if (ec)
+      return Error{"cannot create " + (root / robotDir(run.robot)).string() + ": " + ec.message()};
     std::string bytes;
-    for (const RobotUpdate& update : dataset.streams[r]) bytes += io::encodeRobotUpdateBinary(update);
+    for (const RobotUpdate& update : dataset.streams[r])
+      bytes += io::encodeRobotUpdateBinary(update);
     const std::string stream = robotDir(run.robot) + "/updates.dsgb";
     if (Status s = writeText(root / stream, bytes); !s) return s;
     robots.push_back({{"robot", run.robot.str()},
@@ -324,7 +328,8 @@ Status writeDataset(const SimulatedDataset& dataset, const std::string& dir) {
   json starts = json::array(), closures = json::array();
   for (const RobotRun& run : dataset.runs) {
     const std::string name = run.robot.str();
-    if (Status s = writeText(root / "gt" / "trajectories" / (name + ".tum"), tumLines(run.truth)); !s)
+    if (Status s = writeText(root / "gt" / "trajectories" / (name + ".tum"), tumLines(run.truth));
+        !s)
       return s;
     json start = poseJson(run.truth.front().T_world_body);
     start["robot"] = name;
@@ -362,10 +367,10 @@ Status writeDataset(const SimulatedDataset& dataset, const std::string& dir) {
                        {"size", vec(o.size)},
                        {"yaw", std::atan2(R(1, 0), R(0, 0))}});
   }
-  if (Status s = writeText(root / "gt" / "objects.json",
-                           json({{"object_threshold_m", c.object_threshold_m}, {"objects", objects}})
-                                   .dump(1) +
-                               "\n");
+  if (Status s = writeText(
+          root / "gt" / "objects.json",
+          json({{"object_threshold_m", c.object_threshold_m}, {"objects", objects}}).dump(1) +
+              "\n");
       !s)
     return s;
 
@@ -376,9 +381,9 @@ Status writeDataset(const SimulatedDataset& dataset, const std::string& dir) {
     gvd.push_back(p.y());
     gvd.push_back(p.z());
   }
-  if (Status s = writeText(root / "gt" / "gvd.json",
-                           json({{"height_above_floor_m", height}, {"points_xyz", gvd}}).dump() +
-                               "\n");
+  if (Status s =
+          writeText(root / "gt" / "gvd.json",
+                    json({{"height_above_floor_m", height}, {"points_xyz", gvd}}).dump() + "\n");
       !s)
     return s;
 

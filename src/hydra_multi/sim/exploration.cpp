@@ -65,7 +65,8 @@ std::vector<Eigen::Vector2d> lookouts(const Rect& f) {
   for (int j = 0; j < ny; ++j) {
     for (int k = 0; k < nx; ++k) {
       const int i = j % 2 == 0 ? k : nx - 1 - k;
-      points.push_back(f.min + Eigen::Vector2d((i + 0.5) / nx, (j + 0.5) / ny).cwiseProduct(f.size()));
+      points.push_back(f.min +
+                       Eigen::Vector2d((i + 0.5) / nx, (j + 0.5) / ny).cwiseProduct(f.size()));
     }
   }
   return points;
@@ -110,8 +111,7 @@ Result<std::vector<Eigen::Vector2d>> planRoomTour(const World& world, const Floo
 }
 
 Result<std::vector<Eigen::Vector3d>> planBuildingTour(const World& world, const FreeSpace& space,
-                                                      int start_floor,
-                                                      const Eigen::Vector2d& start,
+                                                      int start_floor, const Eigen::Vector2d& start,
                                                       const std::vector<int>& rooms,
                                                       const PathPlannerOptions& options) {
   const auto gridOf = [&](int floor) -> const FloorGrid* {
@@ -137,8 +137,8 @@ Result<std::vector<Eigen::Vector3d>> planBuildingTour(const World& world, const 
     std::vector<Eigen::Vector2d> points = tour.value();
     if (then != nullptr) {
       auto tail = planPath(*grid, points.back(), *then, options);
-      if (!tail) return Error{"tour to the stairs on floor " + std::to_string(floor) + ": " +
-                              tail.error()};
+      if (!tail)
+        return Error{"tour to the stairs on floor " + std::to_string(floor) + ": " + tail.error()};
       points.insert(points.end(), tail.value().begin() + 1, tail.value().end());
     }
     append(points);

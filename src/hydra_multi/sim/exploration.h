@@ -29,8 +29,7 @@ Result<std::vector<Eigen::Vector2d>> planRoomTour(const World& world, const Floo
 /// height; on stairs z rises or falls along the flight. Fails when a room is unreachable or a
 /// floor change has no stairs.
 Result<std::vector<Eigen::Vector3d>> planBuildingTour(const World& world, const FreeSpace& space,
-                                                      int start_floor,
-                                                      const Eigen::Vector2d& start,
+                                                      int start_floor, const Eigen::Vector2d& start,
                                                       const std::vector<int>& rooms,
                                                       const PathPlannerOptions& options = {});
 

@@ -7,13 +7,9 @@
 namespace hydra_multi::sim {
 namespace {
 
-double yawOf(const Eigen::Isometry3d& T) {
-  return std::atan2(T.linear()(1, 0), T.linear()(0, 0));
-}
+double yawOf(const Eigen::Isometry3d& T) { return std::atan2(T.linear()(1, 0), T.linear()(0, 0)); }
 
-double angleBetween(double a, double b) {
-  return std::abs(std::remainder(a - b, 2.0 * M_PI));
-}
+double angleBetween(double a, double b) { return std::abs(std::remainder(a - b, 2.0 * M_PI)); }
 
 }  // namespace
 
@@ -29,9 +25,7 @@ std::vector<SimulatedLoopClosure> simulateLoopClosures(const World& world,
   const auto roomPose = [&](size_t k) -> Eigen::Isometry3d {
     return world.roomFrame(world.room(rooms[k])).inverse() * truth[k].T_world_body;
   };
-  const auto aliased = [&](size_t k) {
-    return rooms[k] >= 0 && world.room(rooms[k]).layout >= 0;
-  };
+  const auto aliased = [&](size_t k) { return rooms[k] >= 0 && world.room(rooms[k]).layout >= 0; };
   int64_t last_time = INT64_MIN / 2;
   for (size_t k = 0; k < truth.size(); ++k) {
     const int64_t t_k = truth[k].time_ns;
@@ -60,8 +54,8 @@ std::vector<SimulatedLoopClosure> simulateLoopClosures(const World& world,
       }
     }
     // A look-alike that looks better than the true revisit fools the robot now and then.
-    bool best_is_alias = std::isfinite(best[1]) && best[1] < best[0] &&
-                         unit(rng) < options.aliasing_acceptance;
+    bool best_is_alias =
+        std::isfinite(best[1]) && best[1] < best[0] && unit(rng) < options.aliasing_acceptance;
     if (!best_is_alias && !std::isfinite(best[0])) continue;
     SimulatedLoopClosure closure;
     const size_t from = best_j[best_is_alias ? 1 : 0];

@@ -82,8 +82,8 @@ Result<SimulationConfig> presetConfig(const std::string& name, uint64_t seed,
   c.robots = robots.value_or(team);
   b.rooms_per_side = std::max(2, static_cast<int>(std::lround(b.rooms_per_side * scale)));
   if (b.open_spaces > 0)
-    b.open_spaces = std::clamp(static_cast<int>(std::lround(b.open_spaces * scale)), 1,
-                               b.rooms_per_side);
+    b.open_spaces =
+        std::clamp(static_cast<int>(std::lround(b.open_spaces * scale)), 1, b.rooms_per_side);
   b.seed = seed;
   c.textures.seed = seed * 31 + 1;
   c.loop_closures.seed = seed * 31 + 2;
@@ -117,7 +117,8 @@ std::vector<int> visitableRooms(const World& world, int floor) {
 std::vector<int> window(const std::vector<int>& items, int i, int count, double coverage) {
   const int n = static_cast<int>(items.size());
   const int length = std::clamp(static_cast<int>(std::ceil(coverage * n)), 1, n);
-  const int start = count <= 1 ? 0 : static_cast<int>(std::lround(double(i) * (n - length) / (count - 1)));
+  const int start =
+      count <= 1 ? 0 : static_cast<int>(std::lround(double(i) * (n - length) / (count - 1)));
   return {items.begin() + start, items.begin() + start + length};
 }
 
@@ -133,9 +134,9 @@ Result<std::vector<RobotPlan>> planTeam(const World& world, const FreeSpace& spa
       // Start on a floor of its own (spread from the bottom to the top), explore it, then a
       // window of the middle floor.
       const int start_floor =
-          config.robots <= 1 ? 0
-                             : static_cast<int>(std::lround(double(r) * (floors - 1) /
-                                                            (config.robots - 1)));
+          config.robots <= 1
+              ? 0
+              : static_cast<int>(std::lround(double(r) * (floors - 1) / (config.robots - 1)));
       const int middle = floors / 2;
       plan.start_floor = start_floor;
       if (start_floor != middle) plan.rooms = visitableRooms(world, start_floor);

@@ -43,7 +43,7 @@ struct SimulationConfig {
   int robots = 2;
   double scale = 1.0;
   TeamPlan plan = TeamPlan::kOverlapping;
-  double coverage = 0.6;  ///< kOverlapping/kMeet: share of the rooms each robot visits
+  double coverage = 0.6;        ///< kOverlapping/kMeet: share of the rooms each robot visits
   bool return_to_start = true;  ///< robots end their tour back in their start room
   double robot_start_interval_s = 2.0;  ///< robot r starts r times this after robot 0
   double object_threshold_m = 1.0;      ///< the objects metric's distance for this building
@@ -64,8 +64,7 @@ std::vector<std::string> presetNames();
 /// The configuration of a preset; `robots` (1 to 10) and `scale` (0.25 to 4) override its team
 /// size and building length. An unknown name or a bad number is an error that says which.
 Result<SimulationConfig> presetConfig(const std::string& name, uint64_t seed,
-                                      std::optional<int> robots = std::nullopt,
-                                      double scale = 1.0);
+                                      std::optional<int> robots = std::nullopt, double scale = 1.0);
 
 /// Where a robot starts and which rooms it visits, in order.
 struct RobotPlan {

@@ -134,9 +134,9 @@ class RobotMapper {
     place_node_.assign(places_.size(), std::nullopt);
     detections_at_.resize(run.truth.size());
     if (run.sensor.semantic) {
-      for (const DetectedObject& d : detectObjects(sensed.world, sensed.space, run.floors,
-                                                   run.truth, run.sensor.camera,
-                                                   options.detection)) {
+      for (const DetectedObject& d :
+           detectObjects(sensed.world, sensed.space, run.floors, run.truth, run.sensor.camera,
+                         options.detection)) {
         detections_at_[d.first_keyframe].push_back(d);
       }
     }
@@ -187,8 +187,8 @@ class RobotMapper {
       edge.kind = PoseGraphEdge::Kind::kLoopClosure;
       edge.T_from_to = c.T_from_to;
       const double rot = options_.loop_closure_rotation_sigma_deg * M_PI / 180.0;
-      edge.information = diagonalInformation(std::pow(options_.loop_closure_translation_sigma, 2),
-                                             rot * rot);
+      edge.information =
+          diagonalInformation(std::pow(options_.loop_closure_translation_sigma, 2), rot * rot);
       pending_.pose_graph.push_back(edge);
     }
   }
@@ -209,10 +209,9 @@ class RobotMapper {
     odometry.to = agentId(k);
     odometry.T_from_to = run_.odometry[k - 1].inverse() * T;
     // The odometry noise of a step of length s has variance sigma^2 * s (trajectory.h).
-    const double s = std::max(
-        0.05, (run_.truth[k].T_world_body.translation() -
-               run_.truth[k - 1].T_world_body.translation())
-                  .norm());
+    const double s = std::max(0.05, (run_.truth[k].T_world_body.translation() -
+                                     run_.truth[k - 1].T_world_body.translation())
+                                        .norm());
     const OdometryNoise& n = run_.odometry_noise;
     const double yaw = std::max(n.yaw_sigma, n.roll_pitch_sigma);
     odometry.information =
@@ -237,7 +236,8 @@ class RobotMapper {
     const Eigen::Vector2d eye = T.translation().head<2>();
     std::normal_distribution<double> gauss(0.0, options_.mesh_noise_sigma);
     std::vector<uint32_t> seen_now;
-    for (const auto& n : sensed_.mesh_index->withinRadius(T.translation(), run_.sensor.mesh_range)) {
+    for (const auto& n :
+         sensed_.mesh_index->withinRadius(T.translation(), run_.sensor.mesh_range)) {
       if (robot_vertex_[n.index] != kUnseen) continue;
       const SurfaceVertex& v = sensed_.mesh.vertices[n.index];
       if (v.floor != floor || !inView(T, v.position)) continue;
@@ -366,7 +366,8 @@ class RobotMapper {
         half_half[axis] *= 0.5;
         offset[axis] = half_half[axis];
         const NodeId second('O', next_object_++);
-        putNode(objectNode(id, d.label, centroid - offset, half_half, t, object_vertices_[d.true_id]));
+        putNode(
+            objectNode(id, d.label, centroid - offset, half_half, t, object_vertices_[d.true_id]));
         putNode(objectNode(second, d.label, centroid + offset, half_half, t, {}));
         attachToPlace(id, centroid - offset);
         attachToPlace(second, centroid + offset);
@@ -382,7 +383,8 @@ class RobotMapper {
         // A false detection beside it, of a look-alike class, deleted later.
         const double angle = 2.0 * M_PI * unit(rng_);
         const Eigen::Vector3d beside =
-            centroid + (0.6 + 0.6 * unit(rng_)) * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0);
+            centroid +
+            (0.6 + 0.6 * unit(rng_)) * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0);
         const NodeId ghost('O', next_object_++);
         putNode(objectNode(ghost, confusableLabel(d.label), beside, 0.5 * half, t, {}));
         attachToPlace(ghost, beside);
@@ -421,8 +423,8 @@ class RobotMapper {
 
   void addDescriptor(size_t k) {
     const Eigen::Isometry3d& T = run_.truth[k].T_world_body;
-    KeyframeDescriptor descriptor = describeKeyframe(sensed_.textures, sensed_.space, run_.floors[k],
-                                                     T, agentId(k), run_.sensor.camera);
+    KeyframeDescriptor descriptor = describeKeyframe(
+        sensed_.textures, sensed_.space, run_.floors[k], T, agentId(k), run_.sensor.camera);
     std::normal_distribution<double> gauss(0.0, 1.0);
     for (Keypoint& keypoint : descriptor.keypoints) {
       const double depth = keypoint.position.cast<double>().norm();

@@ -58,15 +58,15 @@ SensorProfile lidarProfile();
 
 struct MapperOptions {
   double update_period_s = 5.0;
-  double mesh_noise_sigma = 0.01;        ///< per vertex and axis (m)
-  double control_point_spacing = 1.5;    ///< deformation-graph voxel (m)
-  double keypoint_sigma_base = 0.002;    ///< keypoint noise a + b * depth^2 (m), RGB-D-like
+  double mesh_noise_sigma = 0.01;      ///< per vertex and axis (m)
+  double control_point_spacing = 1.5;  ///< deformation-graph voxel (m)
+  double keypoint_sigma_base = 0.002;  ///< keypoint noise a + b * depth^2 (m), RGB-D-like
   double keypoint_sigma_per_m2 = 0.002;
-  double split_probability = 0.15;       ///< of a detection of an object at least 1 m long
-  double split_min_extent = 1.0;         ///< m
-  double split_merge_delay_s = 20.0;     ///< the halves are merged this much later
-  double spurious_probability = 0.05;    ///< per detection: a false object appears beside it
-  double spurious_lifetime_s = 10.0;     ///< and is deleted this much later
+  double split_probability = 0.15;     ///< of a detection of an object at least 1 m long
+  double split_min_extent = 1.0;       ///< m
+  double split_merge_delay_s = 20.0;   ///< the halves are merged this much later
+  double spurious_probability = 0.05;  ///< per detection: a false object appears beside it
+  double spurious_lifetime_s = 10.0;   ///< and is deleted this much later
   double loop_closure_translation_sigma = 0.05;  ///< information of loop-closure edges (m)
   double loop_closure_rotation_sigma_deg = 2.0;
   double parent_place_radius = 3.0;  ///< agents and objects attach to a place this close (m)
@@ -81,7 +81,7 @@ struct SensedWorld {
   FreeSpace space;
   WorldMesh mesh;
   std::vector<TexturedPoint> textures;
-  std::unique_ptr<NearestNeighbors> mesh_index;    ///< over mesh vertex positions
+  std::unique_ptr<NearestNeighbors> mesh_index;     ///< over mesh vertex positions
   std::vector<std::vector<uint32_t>> vertex_faces;  ///< faces of every mesh vertex
 
   SensedWorld(World world, FreeSpace space, WorldMesh mesh, std::vector<TexturedPoint> textures);

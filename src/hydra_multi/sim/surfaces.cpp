@@ -86,7 +86,8 @@ WorldMesh generateSurfaces(const World& world, const SurfaceOptions& options) {
     const Eigen::Matrix3d R = object.T_world_object.linear();
     const Eigen::Vector3d t = object.T_world_object.translation();
     const auto world_point = [&](const Eigen::Vector3d& p) { return Eigen::Vector3d(R * p + t); };
-    const Eigen::Vector3d ex = R * Eigen::Vector3d(e.x(), 0, 0), ey = R * Eigen::Vector3d(0, e.y(), 0),
+    const Eigen::Vector3d ex = R * Eigen::Vector3d(e.x(), 0, 0),
+                          ey = R * Eigen::Vector3d(0, e.y(), 0),
                           ez = R * Eigen::Vector3d(0, 0, e.z());
     const Eigen::Vector3d base = world_point(-half);
     addPatch(mesh, base + ez, ex, ey, s, prototype, all);  // top

@@ -14,8 +14,8 @@
 namespace hydra_multi::sim {
 
 struct SurfaceOptions {
-  double spacing = 0.3;       ///< vertex spacing (m)
-  double door_height = 2.0;   ///< openings are cut up to this height (m)
+  double spacing = 0.3;      ///< vertex spacing (m)
+  double door_height = 2.0;  ///< openings are cut up to this height (m)
 };
 
 struct SurfaceVertex {

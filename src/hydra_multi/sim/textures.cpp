@@ -43,23 +43,26 @@ std::vector<std::pair<Eigen::Vector3d, uint32_t>> sampleTiledTexture(double w, d
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::uniform_int_distribution<uint32_t> word(0, options.vocabulary - 1);
   std::vector<std::pair<Eigen::Vector3d, uint32_t>> tile;
-  const int count = static_cast<int>(std::round(options.points_per_m2 * period * options.wall_height));
+  const int count =
+      static_cast<int>(std::round(options.points_per_m2 * period * options.wall_height));
   for (const double y : {-0.5 * d, 0.5 * d}) {
     for (int i = 0; i < count; ++i)
-      tile.push_back({Eigen::Vector3d(unit(rng) * period, y, unit(rng) * options.wall_height),
-                      word(rng)});
+      tile.push_back(
+          {Eigen::Vector3d(unit(rng) * period, y, unit(rng) * options.wall_height), word(rng)});
   }
   std::vector<std::pair<Eigen::Vector3d, uint32_t>> points;
   for (double x0 = 0.0; x0 < w; x0 += period) {
     for (const auto& [p, wd] : tile) {
-      if (x0 + p.x() <= w) points.push_back({Eigen::Vector3d(x0 + p.x() - 0.5 * w, p.y(), p.z()), wd});
+      if (x0 + p.x() <= w)
+        points.push_back({Eigen::Vector3d(x0 + p.x() - 0.5 * w, p.y(), p.z()), wd});
     }
   }
-  const int end_count = static_cast<int>(std::round(options.points_per_m2 * d * options.wall_height));
+  const int end_count =
+      static_cast<int>(std::round(options.points_per_m2 * d * options.wall_height));
   for (const double x : {-0.5 * w, 0.5 * w}) {
     for (int i = 0; i < end_count; ++i)
-      points.push_back({Eigen::Vector3d(x, (unit(rng) - 0.5) * d, unit(rng) * options.wall_height),
-                        word(rng)});
+      points.push_back(
+          {Eigen::Vector3d(x, (unit(rng) - 0.5) * d, unit(rng) * options.wall_height), word(rng)});
   }
   return points;
 }

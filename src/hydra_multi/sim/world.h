@@ -27,7 +27,14 @@ struct Rect {
   bool overlaps(const Rect& other) const;
 };
 
-enum class RoomKind : uint8_t { kCorridor, kOffice, kStudentRoom, kKitchen, kOpenSpace, kStairwell };
+enum class RoomKind : uint8_t {
+  kCorridor,
+  kOffice,
+  kStudentRoom,
+  kKitchen,
+  kOpenSpace,
+  kStairwell
+};
 const char* roomKindName(RoomKind kind);
 
 struct Room {

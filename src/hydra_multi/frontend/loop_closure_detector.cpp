@@ -1,0 +1,201 @@
+#include "hydra_multi/frontend/loop_closure_detector.h"
+
+#include <algorithm>
+
+namespace hydra_multi {
+namespace {
+
+Eigen::Isometry3d keyframePose(const Node& node) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  if (const AgentAttributes* agent = node.find<AgentAttributes>())
+    T.linear() = agent->orientation.normalized().toRotationMatrix();
+  T.translation() = node.position;
+  return T;
+}
+
+Matrix6d information(double translation_sigma, double rotation_sigma) {
+  Matrix6d info = Matrix6d::Zero();
+  info.diagonal() << Eigen::Vector3d::Constant(1.0 / (translation_sigma * translation_sigma)),
+      Eigen::Vector3d::Constant(1.0 / (rotation_sigma * rotation_sigma));
+  return info;
+}
+
+constexpr size_t kMaxObjectPairs = 200;
+constexpr size_t kMaxPairsPerWord = 4;
+
+}  // namespace
+
+const char* loopClosureSourceName(DetectedLoopClosure::Source source) {
+  return source == DetectedLoopClosure::Source::kObjects ? "objects" : "visual";
+}
+
+LoopClosureDetector::LoopClosureDetector(LoopClosureOptions options) : options_(options) {}
+
+std::vector<DetectedLoopClosure> LoopClosureDetector::update(
+    const SceneGraphProcessor& processor, const std::vector<NodeId>& new_keyframes) {
+  pending_.insert(pending_.end(), new_keyframes.begin(), new_keyframes.end());
+  return run(processor, false);
+}
+
+std::vector<DetectedLoopClosure> LoopClosureDetector::flush(const SceneGraphProcessor& processor) {
+  return run(processor, true);
+}
+
+std::vector<DetectedLoopClosure> LoopClosureDetector::run(const SceneGraphProcessor& processor,
+                                                          bool all) {
+  std::vector<DetectedLoopClosure> found;
+  const SceneGraph& graph = processor.graph();
+  std::vector<NodeId> later;
+  for (const NodeId id : pending_) {
+    const Node* node = graph.findNode(id);
+    const auto robot = id.sourceRobot();
+    if (node == nullptr || !robot) continue;  // removed again (a snapshot replaced it)
+    const RobotFrontendState* state = processor.robot(*robot);
+    const int64_t time = node->find<AgentAttributes>()->timestamp_ns;
+    if (!all && state != nullptr &&
+        time > state->last_time_ns - static_cast<int64_t>(options_.descriptor_delay_s * 1e9)) {
+      later.push_back(id);
+      continue;
+    }
+    const KeyframeDescriptor* visual = nullptr;
+    if (state != nullptr) {
+      const auto it = state->descriptors.find(id);
+      if (it != state->descriptors.end()) visual = &it->second;
+    }
+    Entry entry;
+    entry.robot = *robot;
+    entry.time_ns = time;
+    entry.d = describeKeyframe(graph, id, visual, options_.descriptors);
+    if (auto closure = match(processor, entry)) {
+      found.push_back(*closure);
+      found_.push_back(*closure);
+    }
+    described_.push_back(std::move(entry));
+  }
+  pending_ = std::move(later);
+  return found;
+}
+
+std::optional<DetectedLoopClosure> LoopClosureDetector::match(const SceneGraphProcessor& processor,
+                                                              const Entry& query) {
+  if (!query.d.root) return std::nullopt;
+  const int64_t separation = static_cast<int64_t>(options_.min_time_separation_s * 1e9);
+  const Entry* best_object = nullptr;
+  double best_object_score = 0.0;
+  std::vector<std::pair<double, const Entry*>> visual;
+  for (const Entry& candidate : described_) {
+    if (!candidate.d.root) continue;
+    if (candidate.robot == query.robot &&
+        (!options_.detect_intra_robot ||
+         std::llabs(query.time_ns - candidate.time_ns) < separation))
+      continue;
+    if (histogramScore(query.d.place_radii, candidate.d.place_radii) < options_.place_min_score)
+      continue;
+    if (!query.d.object_labels.empty() && !candidate.d.object_labels.empty()) {
+      const double score = histogramScore(query.d.object_labels, candidate.d.object_labels);
+      if (score >= options_.object_min_score && score > best_object_score) {
+        best_object_score = score;
+        best_object = &candidate;
+      }
+    }
+    if (!query.d.bow.empty() && !candidate.d.bow.empty()) {
+      const double score = histogramScore(query.d.bow, candidate.d.bow);
+      if (score >= options_.bow_min_score) visual.emplace_back(score, &candidate);
+    }
+  }
+  // Bottom-up: objects first, then visual keypoints.
+  const auto plausible = [&](const DetectedLoopClosure& c) {
+    return c.T_a_b.translation().norm() <= options_.max_keyframe_distance;
+  };
+  if (best_object != nullptr && best_object_score >= options_.object_register_score) {
+    auto closure = verifyObjects(processor, query, *best_object);
+    if (closure && plausible(*closure)) {
+      closure->score = best_object_score;
+      return closure;
+    }
+  }
+  std::sort(visual.begin(), visual.end(),
+            [](const auto& a, const auto& b) { return a.first > b.first; });
+  for (size_t i = 0; i < visual.size() && i < options_.visual_candidates; ++i) {
+    auto closure = verifyVisual(processor, query, *visual[i].second);
+    if (closure && plausible(*closure)) {
+      closure->score = visual[i].first;
+      return closure;
+    }
+  }
+  return std::nullopt;
+}
+
+std::optional<DetectedLoopClosure> LoopClosureDetector::verifyObjects(
+    const SceneGraphProcessor& processor, const Entry& query, const Entry& candidate) {
+  const SceneGraph& graph = processor.graph();
+  // Every same-label pair is a putative correspondence (query's robot frame -> candidate's).
+  std::vector<Eigen::Vector3d> source, target;
+  // (Objects the robots have deleted since the keyframes were described are skipped.)
+  for (const NodeId q : query.d.objects) {
+    const Node* a = graph.findNode(q);
+    if (a == nullptr) continue;
+    for (const NodeId c : candidate.d.objects) {
+      const Node* b = graph.findNode(c);
+      if (b == nullptr || a->semantic()->label != b->semantic()->label) continue;
+      source.push_back(a->position);
+      target.push_back(b->position);
+      if (source.size() >= kMaxObjectPairs) break;
+    }
+    if (source.size() >= kMaxObjectPairs) break;
+  }
+  const auto registration = tlsRegistration(source, target, options_.objects);
+  if (!registration) return std::nullopt;
+  const Eigen::Isometry3d T_candidate_query = registration.value().T_target_source;
+  DetectedLoopClosure closure;
+  closure.robot_a = candidate.robot;
+  closure.robot_b = query.robot;
+  closure.keyframe_a = candidate.d.keyframe;
+  closure.keyframe_b = query.d.keyframe;
+  closure.T_a_b = keyframePose(graph.getNode(candidate.d.keyframe)).inverse() * T_candidate_query *
+                  keyframePose(graph.getNode(query.d.keyframe));
+  closure.information =
+      information(options_.object_translation_sigma, options_.object_rotation_sigma);
+  closure.source = DetectedLoopClosure::Source::kObjects;
+  closure.inliers = registration.value().inliers.size();
+  return closure;
+}
+
+std::optional<DetectedLoopClosure> LoopClosureDetector::verifyVisual(
+    const SceneGraphProcessor& processor, const Entry& query, const Entry& candidate) {
+  const RobotFrontendState* qs = processor.robot(query.robot);
+  const RobotFrontendState* cs = processor.robot(candidate.robot);
+  if (qs == nullptr || cs == nullptr) return std::nullopt;
+  const auto qd = qs->descriptors.find(query.d.keyframe);
+  const auto cd = cs->descriptors.find(candidate.d.keyframe);
+  if (qd == qs->descriptors.end() || cd == cs->descriptors.end()) return std::nullopt;
+  // Keypoints matched by word id (a few pairs per word at most).
+  std::multimap<uint32_t, const Keypoint*> by_word;
+  for (const Keypoint& k : cd->second.keypoints) by_word.emplace(k.word, &k);
+  std::vector<Eigen::Vector3d> source, target;
+  for (const Keypoint& k : qd->second.keypoints) {
+    const auto [first, last] = by_word.equal_range(k.word);
+    size_t n = 0;
+    for (auto it = first; it != last && n < kMaxPairsPerWord; ++it, ++n) {
+      source.push_back(k.position.cast<double>());
+      target.push_back(it->second->position.cast<double>());
+    }
+  }
+  RansacOptions ransac = options_.visual;
+  ransac.min_inliers = std::max(ransac.min_inliers, options_.visual_min_inliers);
+  const auto registration = ransacRegistration(source, target, ransac);
+  if (!registration) return std::nullopt;
+  DetectedLoopClosure closure;
+  closure.robot_a = candidate.robot;
+  closure.robot_b = query.robot;
+  closure.keyframe_a = candidate.d.keyframe;
+  closure.keyframe_b = query.d.keyframe;
+  closure.T_a_b = registration.value().T_target_source;  // query body -> candidate body
+  closure.information =
+      information(options_.visual_translation_sigma, options_.visual_rotation_sigma);
+  closure.source = DetectedLoopClosure::Source::kVisual;
+  closure.inliers = registration.value().inliers.size();
+  return closure;
+}
+
+}  // namespace hydra_multi

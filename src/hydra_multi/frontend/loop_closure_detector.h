@@ -1,0 +1,100 @@
+#pragma once
+// LoopClosureDetector: hierarchical loop-closure detection over the frontend graph (paper III-A,
+// Hydra's detector; DESIGN.md "Loop closure detection").
+//
+// A keyframe is described (descriptors.h) once the robot has moved on from it (its time is
+// descriptor_delay_s behind the robot's latest), so that its neighbourhood has been mapped; then
+// it is matched against every described keyframe of the other robots, and against its own robot's
+// keyframes at least min_time_separation_s older:
+//   top-down   places prune the candidates (score >= place_min_score); among those, objects
+//              (score >= object_min_score) and bag of words (score >= bow_min_score) rank them;
+//   bottom-up  the first geometric verification that succeeds wins: objects, if the best object
+//              candidate scores >= object_register_score, by TLS registration of same-label
+//              object pairs with max-clique pruning (at least 5 inliers); otherwise visual
+//              keypoints of the best bag-of-words candidates, matched by word id, by RANSAC with
+//              at least visual_min_inliers inliers.
+// A loop closure holds both keyframes (station ids), the relative pose T_a_b of keyframe b in
+// keyframe a's body frame, an information matrix per verifying layer, the inlier count and the
+// score. Robots without objects (a lidar robot) are matched by places and bag of words only.
+
+#include <map>
+#include <set>
+#include <vector>
+
+#include "hydra_multi/frontend/descriptors.h"
+#include "hydra_multi/frontend/scene_graph_processor.h"
+#include "hydra_multi/registration/ransac.h"
+#include "hydra_multi/registration/tls_registration.h"
+
+namespace hydra_multi {
+
+struct LoopClosureOptions {
+  DescriptorOptions descriptors;
+  double descriptor_delay_s = 10.0;
+  double min_time_separation_s = 30.0;  ///< same-robot candidates
+  double place_min_score = 0.5;
+  double object_min_score = 0.3;
+  double object_register_score = 0.8;
+  double bow_min_score = 0.3;
+  size_t visual_candidates = 2;  ///< best bag-of-words candidates verified per keyframe
+  size_t visual_min_inliers = 12;
+  TlsRegistrationOptions objects{0.3, 5, 20000};
+  /// A loop closure means both keyframes saw the same place: a verified transform that puts
+  /// them further apart than this is not one (m).
+  double max_keyframe_distance = 6.0;
+  RansacOptions visual{0.15, 300, 0.999, 12, 1};
+  /// Information of a verified loop closure: sigmas (m, rad) per layer.
+  double object_translation_sigma = 0.3, object_rotation_sigma = 0.05;
+  double visual_translation_sigma = 0.1, visual_rotation_sigma = 0.02;
+  bool detect_intra_robot = true;
+};
+
+struct DetectedLoopClosure {
+  enum class Source { kObjects, kVisual };
+  RobotId robot_a, robot_b;
+  NodeId keyframe_a, keyframe_b;  ///< station ids; a is the earlier-described (candidate)
+  Eigen::Isometry3d T_a_b = Eigen::Isometry3d::Identity();
+  Matrix6d information = Matrix6d::Identity();
+  Source source = Source::kVisual;
+  size_t inliers = 0;
+  double score = 0.0;  ///< of the layer that ranked the pair
+  bool interRobot() const { return robot_a != robot_b; }
+};
+const char* loopClosureSourceName(DetectedLoopClosure::Source source);
+
+class LoopClosureDetector {
+ public:
+  explicit LoopClosureDetector(LoopClosureOptions options = {});
+
+  /// Queues the new keyframes of an applied update, then describes and matches those that are
+  /// ready (descriptor_delay_s behind their robot). Returns the loop closures found by this call.
+  std::vector<DetectedLoopClosure> update(const SceneGraphProcessor& processor,
+                                          const std::vector<NodeId>& new_keyframes);
+  /// The same for every keyframe not yet described (at the end of a run).
+  std::vector<DetectedLoopClosure> flush(const SceneGraphProcessor& processor);
+
+  const std::vector<DetectedLoopClosure>& loopClosures() const { return found_; }
+  size_t keyframesDescribed() const { return described_.size(); }
+  size_t keyframesPending() const { return pending_.size(); }
+
+ private:
+  struct Entry {
+    KeyframeDescriptors d;
+    RobotId robot;
+    int64_t time_ns = 0;
+  };
+  std::vector<DetectedLoopClosure> run(const SceneGraphProcessor& processor, bool all);
+  std::optional<DetectedLoopClosure> match(const SceneGraphProcessor& processor,
+                                           const Entry& query);
+  std::optional<DetectedLoopClosure> verifyObjects(const SceneGraphProcessor& processor,
+                                                   const Entry& query, const Entry& candidate);
+  std::optional<DetectedLoopClosure> verifyVisual(const SceneGraphProcessor& processor,
+                                                  const Entry& query, const Entry& candidate);
+
+  LoopClosureOptions options_;
+  std::vector<Entry> described_;
+  std::vector<NodeId> pending_;  ///< keyframes not described yet, in arrival order
+  std::vector<DetectedLoopClosure> found_;
+};
+
+}  // namespace hydra_multi

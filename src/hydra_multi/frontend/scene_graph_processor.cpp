@@ -1,0 +1,308 @@
+#include "hydra_multi/frontend/scene_graph_processor.h"
+
+#include <functional>
+
+#include "hydra_multi/dsg/graph_delta.h"
+#include "hydra_multi/dsg/io/binary_format.h"
+
+namespace hydra_multi {
+namespace {
+
+size_t digestOf(const RobotUpdate& update) {
+  return std::hash<std::string>{}(io::encodeRobotUpdateBinary(update));
+}
+
+std::string where(const RobotUpdate& update) {
+  return "robot " + update.robot.str() + " update " + std::to_string(update.sequence);
+}
+
+}  // namespace
+
+const char* updateOutcomeName(UpdateOutcome outcome) {
+  switch (outcome) {
+    case UpdateOutcome::kApplied:
+      return "applied";
+    case UpdateOutcome::kBuffered:
+      return "buffered";
+    case UpdateOutcome::kDuplicate:
+      return "duplicate";
+    case UpdateOutcome::kWaiting:
+      return "waiting for snapshot";
+    case UpdateOutcome::kRejected:
+      return "rejected";
+  }
+  return "rejected";
+}
+
+SceneGraphProcessor::SceneGraphProcessor(ProcessorOptions options, Logger log)
+    : options_(options), log_(std::move(log)) {}
+
+std::optional<NodeId> SceneGraphProcessor::toStation(RobotId robot, NodeId robot_side) {
+  if (robot_side.isStation() || robot_side.index() > NodeId::kMaxStationIndex || !robot.isValid())
+    return std::nullopt;
+  return NodeId::station(robot_side.category(), robot, robot_side.index());
+}
+
+std::optional<std::pair<RobotId, NodeId>> SceneGraphProcessor::toRobotSide(NodeId station) {
+  const auto robot = station.sourceRobot();
+  if (!station.isStation() || !robot) return std::nullopt;
+  return std::make_pair(*robot, NodeId(station.category(), station.index()));
+}
+
+const RobotFrontendState* SceneGraphProcessor::robot(RobotId robot) const {
+  const auto it = robots_.find(robot);
+  return it == robots_.end() ? nullptr : &it->second.state;
+}
+
+std::vector<RobotId> SceneGraphProcessor::robots() const {
+  std::vector<RobotId> robots;
+  for (const auto& [robot, slot] : robots_) robots.push_back(robot);
+  return robots;
+}
+
+std::optional<RobotId> SceneGraphProcessor::frameOf(NodeId station) const {
+  const auto source = station.sourceRobot();
+  if (!source || !graph_.hasNode(station)) return std::nullopt;
+  const RobotFrontendState* state = robot(*source);
+  return state ? std::optional<RobotId>(state->frame) : std::nullopt;
+}
+
+UpdateReport SceneGraphProcessor::finish(UpdateReport report) {
+  switch (report.outcome) {
+    case UpdateOutcome::kApplied:
+      ++counts_.applied;
+      break;
+    case UpdateOutcome::kBuffered:
+      ++counts_.buffered;
+      break;
+    case UpdateOutcome::kDuplicate:
+      ++counts_.duplicates;
+      break;
+    case UpdateOutcome::kWaiting:
+      ++counts_.waiting;
+      break;
+    case UpdateOutcome::kRejected:
+      ++counts_.rejected;
+      break;
+  }
+  if (report.outcome != UpdateOutcome::kApplied && log_) {
+    log_("robot " + report.robot.str() + " update " + std::to_string(report.sequence) + ": " +
+         updateOutcomeName(report.outcome) + ": " + report.message);
+  }
+  return report;
+}
+
+UpdateReport SceneGraphProcessor::process(const RobotUpdate& update) {
+  UpdateReport report;
+  report.robot = update.robot;
+  report.sequence = update.sequence;
+  if (Status valid = validateRobotUpdate(update); !valid) {
+    report.message = valid.message();
+    return finish(report);
+  }
+  RobotSlot& slot = robots_[update.robot];  // a robot joins with its first update
+  if (slot.state.updates_applied == 0 && slot.digests.empty()) slot.state.frame = update.robot;
+  RobotFrontendState& state = slot.state;
+
+  if (update.sequence < state.next_sequence) {
+    const auto seen = slot.digests.find(update.sequence);
+    if (seen != slot.digests.end() && seen->second != digestOf(update)) {
+      report.message =
+          "differs from the update applied with this sequence number (corrupt "
+          "or conflicting replay)";
+    } else {
+      report.outcome = UpdateOutcome::kDuplicate;
+      report.message = "sequence " + std::to_string(update.sequence) + " was already applied";
+    }
+    return finish(report);
+  }
+  const bool snapshot = update.is_snapshot;
+  if (state.waiting_for_snapshot && !snapshot) {
+    report.outcome = UpdateOutcome::kWaiting;
+    report.message = "the robot has a gap before it; only a snapshot can follow";
+    return finish(report);
+  }
+  if (!snapshot && update.sequence > state.next_sequence) {
+    if (slot.buffer.size() >= options_.reorder_buffer) {
+      state.waiting_for_snapshot = true;
+      slot.buffer.clear();
+      report.outcome = UpdateOutcome::kWaiting;
+      report.message = "sequence " + std::to_string(state.next_sequence) +
+                       " is still missing after " + std::to_string(options_.reorder_buffer) +
+                       " later updates; waiting for a snapshot";
+      return finish(report);
+    }
+    slot.buffer[update.sequence] = update;
+    report.outcome = UpdateOutcome::kBuffered;
+    report.message = "ahead of the missing sequence " + std::to_string(state.next_sequence);
+    return finish(report);
+  }
+  // In order (or a snapshot): apply, then whatever the buffer holds next.
+  if (Status status = apply(slot, update, report); !status) {
+    report.message = status.message();
+    state.waiting_for_snapshot = true;
+    slot.buffer.clear();
+    report.message += "; the robot now waits for a snapshot";
+    return finish(report);
+  }
+  report.outcome = UpdateOutcome::kApplied;
+  while (!slot.buffer.empty() && slot.buffer.begin()->first <= state.next_sequence) {
+    const RobotUpdate next = std::move(slot.buffer.begin()->second);
+    slot.buffer.erase(slot.buffer.begin());
+    if (next.sequence < state.next_sequence) continue;  // overtaken by a snapshot
+    if (Status status = apply(slot, next, report); !status) {
+      state.waiting_for_snapshot = true;
+      slot.buffer.clear();
+      if (log_) log_(where(next) + ": rejected: " + status.message() + "; waiting for a snapshot");
+      ++counts_.rejected;
+      break;
+    }
+  }
+  return finish(report);
+}
+
+Status SceneGraphProcessor::apply(RobotSlot& slot, const RobotUpdate& update,
+                                  UpdateReport& report) {
+  RobotFrontendState& state = slot.state;
+  const RobotId robot = update.robot;
+  const std::string at = where(update);
+  const bool snapshot = update.is_snapshot;
+  const auto station = [&](NodeId id) -> Result<NodeId> {
+    const auto mapped = toStation(robot, id);
+    if (!mapped) return Error{at + ": node id " + id.str() + " is not a robot-side id"};
+    return *mapped;
+  };
+
+  // The graph delta in station ids.
+  GraphDelta delta;
+  std::set<NodeId> removed, added;
+  if (snapshot) {
+    for (const NodeId id : graph_.nodesOfRobot(robot)) {
+      delta.removed_nodes.push_back(id);
+      removed.insert(id);
+    }
+  }
+  for (const NodeId id : update.graph.removed_nodes) {
+    auto mapped = station(id);
+    if (!mapped) return Error{mapped.error()};
+    if (!graph_.hasNode(mapped.value()) && !snapshot)
+      return Error{at + ": removes " + id.str() + ", which the robot never sent"};
+    if (removed.insert(mapped.value()).second) delta.removed_nodes.push_back(mapped.value());
+  }
+  for (const Node& original : update.graph.nodes) {
+    if (original.layer() == Layer::kAgents && original.id.category() != robot.prefix())
+      return Error{at + ": agent node " + original.id.str() + " does not carry robot " +
+                   robot.str() + "'s prefix"};
+    auto mapped = station(original.id);
+    if (!mapped) return Error{mapped.error()};
+    Node node = original;
+    node.id = mapped.value();
+    added.insert(node.id);
+    if (node.layer() == Layer::kAgents && !graph_.hasNode(node.id))
+      report.new_keyframes.push_back(node.id);
+    delta.nodes.push_back(std::move(node));
+  }
+  for (const EdgeKey& key : update.graph.removed_edges) {
+    auto a = station(key.first()), b = station(key.second());
+    if (!a || !b) return Error{!a ? a.error() : b.error()};
+    delta.removed_edges.emplace_back(a.value(), b.value());
+  }
+  for (const Edge& edge : update.graph.edges) {
+    auto a = station(edge.source), b = station(edge.target);
+    if (!a || !b) return Error{!a ? a.error() : b.error()};
+    delta.edges.push_back({a.value(), b.value(), edge.info});
+  }
+  // The station graph holds no mesh: each robot's mesh is kept beside it.
+  delta.mesh.vertex_start = graph_.mesh().vertices.size();
+  delta.mesh.face_start = graph_.mesh().faces.size();
+
+  const auto existsAfter = [&](NodeId id) {
+    return added.count(id) || (graph_.hasNode(id) && !removed.count(id));
+  };
+  // The robot's mesh delta must fit its mesh.
+  const MeshDelta& mesh = update.graph.mesh;
+  const size_t vertices = snapshot ? 0 : state.mesh.vertices.size();
+  const size_t faces = snapshot ? 0 : state.mesh.faces.size();
+  if (mesh.vertex_start > vertices || mesh.face_start > faces)
+    return Error{at + ": mesh starts at vertex " + std::to_string(mesh.vertex_start) + ", face " +
+                 std::to_string(mesh.face_start) + " but the robot's mesh has " +
+                 std::to_string(vertices) + " vertices, " + std::to_string(faces) + " faces"};
+  const uint64_t vertex_count = mesh.vertex_start + mesh.vertices.size();
+  for (size_t f = 0; f < mesh.faces.size(); ++f) {
+    for (const uint32_t v : mesh.faces[f]) {
+      if (v >= vertex_count)
+        return Error{at + ": mesh face " + std::to_string(mesh.face_start + f) + " uses vertex " +
+                     std::to_string(v) + " of " + std::to_string(vertex_count)};
+    }
+  }
+  // Pose graph, deformation graph and descriptors refer to this robot's keyframes.
+  std::vector<PoseGraphEdge> pose_graph;
+  for (const PoseGraphEdge& e : update.pose_graph) {
+    auto from = station(e.from), to = station(e.to);
+    if (!from || !to) return Error{!from ? from.error() : to.error()};
+    if (e.from.category() != robot.prefix() || e.to.category() != robot.prefix() ||
+        !existsAfter(from.value()) || !existsAfter(to.value()))
+      return Error{at + ": pose-graph edge " + e.from.str() + " - " + e.to.str() +
+                   " is not between keyframes the robot sent"};
+    PoseGraphEdge mapped = e;
+    mapped.from = from.value();
+    mapped.to = to.value();
+    pose_graph.push_back(mapped);
+  }
+  std::vector<ControlPoint> points;
+  for (const ControlPoint& p : update.deformation.points) {
+    auto keyframe = station(p.keyframe);
+    if (!keyframe || !existsAfter(keyframe.value()))
+      return Error{at + ": control point " + std::to_string(p.id) + " is attached to " +
+                   p.keyframe.str() + ", which the robot never sent"};
+    ControlPoint mapped = p;
+    mapped.keyframe = keyframe.value();
+    points.push_back(mapped);
+  }
+  std::vector<KeyframeDescriptor> descriptors;
+  for (const KeyframeDescriptor& d : update.descriptors) {
+    auto keyframe = station(d.keyframe);
+    if (!keyframe || !existsAfter(keyframe.value()))
+      return Error{at + ": descriptor of " + d.keyframe.str() + ", which the robot never sent"};
+    KeyframeDescriptor mapped = d;
+    mapped.keyframe = keyframe.value();
+    descriptors.push_back(std::move(mapped));
+  }
+
+  // All checked but what applyDelta checks itself; it changes nothing when it fails.
+  if (Status status = applyDelta(graph_, delta); !status)
+    return Error{at + ": " + status.message()};
+
+  if (snapshot) {
+    state.mesh = Mesh();
+    state.pose_graph.clear();
+    state.control_points.clear();
+    state.control_point_edges.clear();
+    state.descriptors.clear();
+  }
+  state.mesh.vertices.resize(mesh.vertex_start);
+  state.mesh.vertices.insert(state.mesh.vertices.end(), mesh.vertices.begin(), mesh.vertices.end());
+  state.mesh.faces.resize(mesh.face_start);
+  state.mesh.faces.insert(state.mesh.faces.end(), mesh.faces.begin(), mesh.faces.end());
+  state.pose_graph.insert(state.pose_graph.end(), pose_graph.begin(), pose_graph.end());
+  state.control_points.insert(state.control_points.end(), points.begin(), points.end());
+  state.control_point_edges.insert(state.control_point_edges.end(),
+                                   update.deformation.edges.begin(),
+                                   update.deformation.edges.end());
+  for (KeyframeDescriptor& d : descriptors) state.descriptors[d.keyframe] = std::move(d);
+  for (const NodeId id : removed) state.descriptors.erase(id);
+  state.next_sequence = update.sequence + 1;
+  state.waiting_for_snapshot = false;
+  state.last_time_ns = update.time_ns;
+  state.provided_layers = update.provided_layers;
+  ++state.updates_applied;
+  slot.digests[update.sequence] = digestOf(update);
+  while (slot.digests.size() > options_.remembered_digests)
+    slot.digests.erase(slot.digests.begin());
+  report.applied.push_back(update.sequence);
+  report.nodes_changed += delta.nodes.size();
+  report.nodes_removed += delta.removed_nodes.size();
+  return Status::Ok();
+}
+
+}  // namespace hydra_multi
