@@ -9,7 +9,7 @@ DATA ?= ../shared/data
 
 CMAKE_FLAGS = -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DHYDRA_MULTI_WERROR=$(WERROR)
 
-.PHONY: all deps build test test-sanitize demo bench bench-robust bench-sim format clean
+.PHONY: all deps build test test-sanitize demo bench bench-robust bench-sim bench-frontend format clean
 
 all: build
 
@@ -46,6 +46,12 @@ bench-robust: build
 SEEDS ?= 1
 bench-sim: build
 	@./scripts/bench_simulate.sh $(BUILD_DIR)/hydra-multi out/bench-sim "$(SEEDS)"
+
+# The frontend (processor and loop-closure detection) on every team preset: loop closures and
+# time per update (SEED=2 for another seed).
+SEED ?= 1
+bench-frontend: build
+	@./scripts/bench_frontend.sh $(BUILD_DIR)/hydra-multi out/bench-frontend $(SEED)
 
 demo: build
 	@./scripts/demo.sh $(BUILD_DIR)/hydra-multi $(DATA) $(DEMO_OUT)

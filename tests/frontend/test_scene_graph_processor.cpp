@@ -1,0 +1,200 @@
+// The station's scene-graph processor: id remapping, deletions, robots joining late, replayed,
+// out-of-order, gapped and corrupt updates; the graph is never left half-changed.
+
+#include <gtest/gtest.h>
+
+#include "hydra_multi/dsg/graph_delta.h"
+#include "hydra_multi/frontend/scene_graph_processor.h"
+#include "hydra_multi/sim/dataset.h"
+
+namespace hydra_multi {
+namespace {
+
+const RobotId kA(0), kB(1), kC(2);
+
+Node object(uint64_t index, const Eigen::Vector3d& p, uint32_t label = 5) {
+  Node node = makeNode(NodeId('O', index), Layer::kObjects, p);
+  node.semantic()->label = label;
+  return node;
+}
+
+Node keyframe(RobotId robot, uint64_t index, const Eigen::Vector3d& p) {
+  Node node = makeNode(NodeId(robot.prefix(), index), Layer::kAgents, p);
+  node.find<AgentAttributes>()->timestamp_ns = static_cast<int64_t>(index) * 1000000000;
+  return node;
+}
+
+// Update `sequence` of `robot` adding keyframe `sequence` and object `sequence`, the keyframe
+// linked to the previous one.
+RobotUpdate step(RobotId robot, uint64_t sequence) {
+  RobotUpdate u;
+  u.robot = robot;
+  u.sequence = sequence;
+  u.time_ns = static_cast<int64_t>(sequence) * 1000000000;
+  u.is_snapshot = sequence == 0;
+  u.graph.nodes.push_back(keyframe(robot, sequence, Eigen::Vector3d(double(sequence), 0, 0)));
+  u.graph.nodes.push_back(object(sequence, Eigen::Vector3d(double(sequence), 1, 0)));
+  if (sequence > 0) {
+    u.graph.edges.push_back({NodeId(robot.prefix(), sequence - 1), NodeId(robot.prefix(), sequence), {}});
+    PoseGraphEdge odometry;
+    odometry.from = NodeId(robot.prefix(), sequence - 1);
+    odometry.to = NodeId(robot.prefix(), sequence);
+    u.pose_graph.push_back(odometry);
+  }
+  u.graph.mesh.vertex_start = sequence;  // one mesh vertex per update
+  MeshVertex v;
+  v.robot = robot;
+  u.graph.mesh.vertices.push_back(v);
+  u.graph.mesh.face_start = 0;
+  return u;
+}
+
+TEST(SceneGraphProcessor, RemapsIdsPerRobot) {
+  SceneGraphProcessor processor;
+  ASSERT_EQ(processor.process(step(kA, 0)).outcome, UpdateOutcome::kApplied);
+  ASSERT_EQ(processor.process(step(kB, 0)).outcome, UpdateOutcome::kApplied);
+  const SceneGraph& g = processor.graph();
+  const NodeId a0 = NodeId::station('O', kA, 0), b0 = NodeId::station('O', kB, 0);
+  EXPECT_TRUE(g.hasNode(a0));
+  EXPECT_TRUE(g.hasNode(b0));
+  EXPECT_EQ(g.numNodes(), 4u);
+  EXPECT_EQ(SceneGraphProcessor::toRobotSide(b0)->first, kB);
+  EXPECT_EQ(SceneGraphProcessor::toRobotSide(b0)->second, NodeId('O', 0));
+  EXPECT_EQ(processor.frameOf(b0), kB);
+  EXPECT_EQ(g.getNode(NodeId::station('b', kB, 0)).robot(), kB);
+  EXPECT_EQ(processor.robot(kA)->mesh.vertices.size(), 1u);
+  // A robot may not send another robot's keyframes.
+  RobotUpdate foreign = step(kA, 1);
+  foreign.graph.nodes.push_back(keyframe(kB, 7, Eigen::Vector3d::Zero()));
+  const UpdateReport report = processor.process(foreign);
+  EXPECT_EQ(report.outcome, UpdateOutcome::kRejected);
+  EXPECT_NE(report.message.find("does not carry robot a's prefix"), std::string::npos);
+  EXPECT_EQ(g.numNodes(), 4u);
+}
+
+TEST(SceneGraphProcessor, DeletionsAndLateRobots) {
+  SceneGraphProcessor processor;
+  for (uint64_t s = 0; s < 3; ++s) processor.process(step(kA, s));
+  RobotUpdate remove = step(kA, 3);
+  remove.graph.removed_nodes.push_back(NodeId('O', 1));
+  const UpdateReport report = processor.process(remove);
+  ASSERT_EQ(report.outcome, UpdateOutcome::kApplied) << report.message;
+  EXPECT_FALSE(processor.graph().hasNode(NodeId::station('O', kA, 1)));
+  EXPECT_EQ(report.nodes_removed, 1u);
+  EXPECT_EQ(report.new_keyframes, std::vector<NodeId>{NodeId::station('a', kA, 3)});
+  // Robot c joins late; robot a goes on.
+  EXPECT_EQ(processor.process(step(kC, 0)).outcome, UpdateOutcome::kApplied);
+  EXPECT_EQ(processor.process(step(kA, 4)).outcome, UpdateOutcome::kApplied);
+  EXPECT_EQ(processor.robots(), (std::vector<RobotId>{kA, kC}));
+  EXPECT_EQ(processor.robot(kA)->pose_graph.size(), 4u);
+  EXPECT_EQ(processor.robot(kA)->next_sequence, 5u);
+}
+
+// A replayed update is recognised and ignored; the same number with other content is refused.
+TEST(SceneGraphProcessor, ReplayedUpdates) {
+  SceneGraphProcessor processor;
+  processor.process(step(kA, 0));
+  processor.process(step(kA, 1));
+  const SceneGraph before = processor.graph();
+  EXPECT_EQ(processor.process(step(kA, 1)).outcome, UpdateOutcome::kDuplicate);
+  RobotUpdate other = step(kA, 1);
+  other.graph.nodes[1].position.x() += 1.0;
+  const UpdateReport conflicting = processor.process(other);
+  EXPECT_EQ(conflicting.outcome, UpdateOutcome::kRejected);
+  EXPECT_NE(conflicting.message.find("differs"), std::string::npos);
+  EXPECT_EQ(processor.graph(), before);
+}
+
+// Updates that overtake a missing one wait for it; the result is the in-order graph.
+TEST(SceneGraphProcessor, OutOfOrderUpdates) {
+  SceneGraphProcessor in_order, shuffled;
+  for (uint64_t s = 0; s < 5; ++s) in_order.process(step(kA, s));
+  shuffled.process(step(kA, 0));
+  EXPECT_EQ(shuffled.process(step(kA, 3)).outcome, UpdateOutcome::kBuffered);
+  EXPECT_EQ(shuffled.process(step(kA, 2)).outcome, UpdateOutcome::kBuffered);
+  EXPECT_EQ(shuffled.process(step(kA, 4)).outcome, UpdateOutcome::kBuffered);
+  const UpdateReport report = shuffled.process(step(kA, 1));
+  EXPECT_EQ(report.outcome, UpdateOutcome::kApplied);
+  EXPECT_EQ(report.applied, (std::vector<uint64_t>{1, 2, 3, 4}));
+  EXPECT_EQ(shuffled.graph(), in_order.graph());
+  EXPECT_EQ(shuffled.robot(kA)->mesh, in_order.robot(kA)->mesh);
+}
+
+// A gap longer than the reorder buffer makes the robot wait for a snapshot, which recovers it.
+TEST(SceneGraphProcessor, GapWaitsForSnapshot) {
+  ProcessorOptions options;
+  options.reorder_buffer = 2;
+  std::vector<std::string> log;
+  SceneGraphProcessor processor(options, [&](const std::string& line) { log.push_back(line); });
+  processor.process(step(kA, 0));
+  processor.process(step(kA, 2));
+  processor.process(step(kA, 3));
+  EXPECT_EQ(processor.process(step(kA, 4)).outcome, UpdateOutcome::kWaiting);
+  EXPECT_TRUE(processor.robot(kA)->waiting_for_snapshot);
+  EXPECT_EQ(processor.process(step(kA, 5)).outcome, UpdateOutcome::kWaiting);
+  ASSERT_FALSE(log.empty());
+  EXPECT_NE(log.back().find("robot a update 5"), std::string::npos);
+  // The snapshot: the robot's whole graph at sequence 6.
+  RobotUpdate snapshot;
+  snapshot.robot = kA;
+  snapshot.sequence = 6;
+  snapshot.is_snapshot = true;
+  snapshot.graph.nodes = {keyframe(kA, 0, Eigen::Vector3d::Zero()), object(9, Eigen::Vector3d::Ones())};
+  const UpdateReport report = processor.process(snapshot);
+  ASSERT_EQ(report.outcome, UpdateOutcome::kApplied) << report.message;
+  EXPECT_FALSE(processor.robot(kA)->waiting_for_snapshot);
+  EXPECT_EQ(processor.graph().numNodes(), 2u);  // replaced, not added
+  EXPECT_TRUE(processor.graph().hasNode(NodeId::station('O', kA, 9)));
+  EXPECT_TRUE(processor.robot(kA)->mesh.vertices.empty());
+  // And deltas on top of the snapshot apply again.
+  RobotUpdate next = step(kA, 7);
+  next.graph.edges = {{NodeId('a', 0), NodeId('a', 7), {}}};
+  next.pose_graph.front().from = NodeId('a', 0);
+  next.graph.mesh.vertex_start = 0;
+  const UpdateReport after = processor.process(next);
+  EXPECT_EQ(after.outcome, UpdateOutcome::kApplied) << after.message;
+}
+
+// A corrupt update in the middle of a real robot stream is refused whole: the graph is what the
+// updates before it made, and it stays intact.
+TEST(SceneGraphProcessor, CorruptUpdateInARealStream) {
+  auto dataset = sim::simulateDataset(sim::presetConfig("tiny", 2).value());
+  ASSERT_TRUE(dataset.ok());
+  const std::vector<RobotUpdate>& stream = dataset.value().streams[0];
+  ASSERT_GT(stream.size(), 10u);
+  const size_t middle = stream.size() / 2;
+  SceneGraphProcessor reference, processor;
+  for (size_t i = 0; i < middle; ++i) {
+    ASSERT_EQ(reference.process(stream[i]).outcome, UpdateOutcome::kApplied);
+    ASSERT_EQ(processor.process(stream[i]).outcome, UpdateOutcome::kApplied);
+  }
+  const auto corruptions = std::vector<std::function<void(RobotUpdate&)>>{
+      [](RobotUpdate& u) { u.graph.nodes.back().position.x() = std::nan(""); },
+      [](RobotUpdate& u) { u.graph.mesh.faces.push_back({0, 1, 99999999}); },
+      [](RobotUpdate& u) { u.graph.removed_nodes.push_back(NodeId('O', 777)); },
+      [](RobotUpdate& u) { u.graph.mesh.vertex_start += 5; },
+      [](RobotUpdate& u) {
+        u.descriptors.push_back(u.descriptors.front());
+        u.descriptors.back().keyframe = NodeId('a', 99999);
+      },
+  };
+  for (const auto& corrupt : corruptions) {
+    SceneGraphProcessor copy = processor;
+    RobotUpdate bad = stream[middle];
+    corrupt(bad);
+    const UpdateReport report = copy.process(bad);
+    EXPECT_EQ(report.outcome, UpdateOutcome::kRejected);
+    // The message names the robot and the update.
+    EXPECT_NE(report.message.find("robot a"), std::string::npos) << report.message;
+    EXPECT_NE(report.message.find("update " + std::to_string(middle)), std::string::npos)
+        << report.message;
+    EXPECT_EQ(copy.graph(), reference.graph());
+    EXPECT_EQ(copy.robot(RobotId(0))->mesh, reference.robot(RobotId(0))->mesh);
+    // The robot's later deltas cannot apply without the refused one: it waits for a snapshot.
+    EXPECT_NE(copy.process(stream[middle + 1]).outcome, UpdateOutcome::kApplied);
+    EXPECT_EQ(copy.graph(), reference.graph());
+  }
+}
+
+}  // namespace
+}  // namespace hydra_multi
