@@ -17,6 +17,9 @@ echo "== hydra-multi demo: a simulated team of 3 robots mapping an office floor 
 "$bin" dataset-graph --dataset "$out/office-3" --robot a --out "$out/office-3-robot-a.json"
 echo "Robot a's own map scored against the ground truth (in its own frame: the global frame):"
 "$bin" evaluate --dataset "$out/office-3" --result "$out/office-3-robot-a.json"
+echo
+echo "== the station's frontend on the team's streams: where did two robots see the same place? =="
+"$bin" detect --dataset "$out/office-3" --quiet
 
 echo
 echo "== the real Hydra scene graph of the uHumans2 apartment =="
@@ -43,4 +46,4 @@ echo "  apartment.dsgb        our compact binary"
 echo "  apartment.spark.json  Spark-DSG's JSON layout, read back by our importer"
 echo "  summary.json          counts per layer and per robot"
 echo "  csail_optimized.g2o   both CSAIL robots in robot 0's frame, outliers rejected"
-echo "Not built yet: the station's loop-closure detection, merging and rooms (README.md)."
+echo "Not built yet: the station's backend (alignment, optimization, merging, rooms) and its runtime (README.md)."

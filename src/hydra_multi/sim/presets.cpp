@@ -41,7 +41,7 @@ Result<SimulationConfig> presetConfig(const std::string& name, uint64_t seed,
     b.kitchen_every = 5;
     b.room_kind = RoomKind::kOffice;
     c.plan = TeamPlan::kOverlapping;
-    c.coverage = 0.5;
+    c.coverage = 0.6;
     c.object_threshold_m = 1.0;
   } else if (name == "residence-3f") {
     b.floors = 3;
