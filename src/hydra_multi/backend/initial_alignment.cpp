@@ -1,0 +1,74 @@
+#include "hydra_multi/backend/initial_alignment.h"
+
+namespace hydra_multi {
+namespace {
+
+Eigen::Isometry3d keyframePose(const Node& node) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  if (const AgentAttributes* agent = node.find<AgentAttributes>())
+    T.linear() = agent->orientation.normalized().toRotationMatrix();
+  T.translation() = node.position;
+  return T;
+}
+
+}  // namespace
+
+const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
+    const SceneGraph& frontend, const std::vector<PoseGraphEdge>& inter_robot, RobotId root,
+    const std::map<RobotId, Eigen::Isometry3d>& optimized_first_keyframes) {
+  // Robots in a dense order, the root first.
+  std::vector<RobotId> robots = {root};
+  for (const RobotId r : frontend.robots()) {
+    if (r != root) robots.push_back(r);
+  }
+  std::map<RobotId, size_t> index;
+  for (size_t i = 0; i < robots.size(); ++i) index[robots[i]] = i;
+  std::map<NodeId, Eigen::Isometry3d> poses;
+  std::unordered_map<NodeId, size_t> robot_of;
+  std::map<RobotId, std::pair<int64_t, NodeId>> first_keyframe;
+  for (const NodeId id : frontend.nodesInLayer(Layer::kAgents)) {
+    const Node& node = frontend.getNode(id);
+    const auto robot = node.robot();
+    if (!robot || !index.count(*robot)) continue;
+    poses[id] = keyframePose(node);
+    robot_of[id] = index[*robot];
+    const int64_t t = node.find<AgentAttributes>()->timestamp_ns;
+    const auto it = first_keyframe.find(*robot);
+    if (it == first_keyframe.end() || t < it->second.first) first_keyframe[*robot] = {t, id};
+  }
+  std::vector<PoseGraphEdge> edges;
+  for (const PoseGraphEdge& e : inter_robot) {
+    if (poses.count(e.from) && poses.count(e.to) && robot_of[e.from] != robot_of[e.to])
+      edges.push_back(e);
+  }
+  const MultiRobotAlignment result =
+      alignRobotFrames(robots.size(), poses, robot_of, edges, 0, options_.alignment);
+  pairs_ = result.pairs;
+
+  for (size_t i = 0; i < robots.size(); ++i) {
+    const RobotId robot = robots[i];
+    if (!result.T_world_robot[i]) continue;
+    auto known = aligned_.find(robot);
+    if (known != aligned_.end()) {
+      // Keep an alignment unless the optimized result moved the robot's start far from it.
+      ++known->second.rounds_aligned;
+      const auto optimized = optimized_first_keyframes.find(robot);
+      const auto first = first_keyframe.find(robot);
+      if (optimized == optimized_first_keyframes.end() || first == first_keyframe.end()) continue;
+      const Eigen::Vector3d by_alignment =
+          (known->second.T_global_robot * poses[first->second.second]).translation();
+      if ((by_alignment - optimized->second.translation()).norm() <= options_.realign_threshold_m)
+        continue;
+      ++realignments_;
+    }
+    RobotFrameAlignment& alignment = aligned_[robot];
+    alignment.T_global_robot = *result.T_world_robot[i];
+    for (const RobotPairAlignment& pair : result.pairs) {
+      if (pair.in_tree && (pair.robot_a == i || pair.robot_b == i) && i != 0)
+        alignment.inliers = std::max(alignment.inliers, pair.inliers);
+    }
+  }
+  return aligned_;
+}
+
+}  // namespace hydra_multi

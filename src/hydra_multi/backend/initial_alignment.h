@@ -1,0 +1,65 @@
+#pragma once
+// InitialAlignment (paper III-B, eq. 1-2): the frames of the robots relative to robot 0's (the
+// global frame), from the inter-robot loop closures and the robots' odometric keyframe poses, by
+// robust pose averaging per robot pair (at least k = 5 inliers) and a spanning tree over the
+// robots that prefers the pairs with more inliers (optim/multi_robot_alignment.h).
+//
+// Online, a robot once aligned keeps its alignment: it is recomputed only when the backend's
+// optimized result disagrees with it by more than realign_threshold_m (the pose of the robot's
+// first keyframe after optimization against the one its alignment gives). A robot not aligned
+// yet stays in its own frame and takes no part in merging.
+
+#include <map>
+#include <optional>
+#include <vector>
+
+#include "hydra_multi/dsg/scene_graph.h"
+#include "hydra_multi/optim/multi_robot_alignment.h"
+
+namespace hydra_multi {
+
+struct InitialAlignmentOptions {
+  /// Sigma of eq. (2): 0.5 m and 0.05 rad, tighter than for g2o files (optim's default 1 m,
+  /// 0.1 rad) because wrong loop closures between look-alike rooms are only a room's width off.
+  MultiRobotAlignmentOptions alignment = [] {
+    MultiRobotAlignmentOptions options;
+    options.averaging.information.setZero();
+    options.averaging.information.diagonal() << 4.0, 4.0, 4.0, 400.0, 400.0, 400.0;
+    return options;
+  }();
+  double realign_threshold_m = 10.0;
+};
+
+struct RobotFrameAlignment {
+  Eigen::Isometry3d T_global_robot = Eigen::Isometry3d::Identity();
+  size_t inliers = 0;  ///< of the tree edge that aligned it (0 for the root)
+  int rounds_aligned = 0;
+};
+
+class InitialAlignment {
+ public:
+  explicit InitialAlignment(InitialAlignmentOptions options = {}) : options_(options) {}
+
+  /// One round. `frontend`: the graph of every robot's keyframes in station ids, each robot in its
+  /// own frame; `inter_robot`: loop closures between keyframes of different robots (T_from_to);
+  /// `root`: the robot whose frame is global. `optimized_first_keyframes`, when given, holds the
+  /// backend's optimized global pose of each aligned robot's first keyframe, for the
+  /// re-alignment rule. Returns the robots aligned after this round.
+  const std::map<RobotId, RobotFrameAlignment>& update(
+      const SceneGraph& frontend, const std::vector<PoseGraphEdge>& inter_robot, RobotId root,
+      const std::map<RobotId, Eigen::Isometry3d>& optimized_first_keyframes = {});
+
+  const std::map<RobotId, RobotFrameAlignment>& aligned() const { return aligned_; }
+  bool isAligned(RobotId robot) const { return aligned_.count(robot) != 0; }
+  /// Per pair, the last round's averaging: loop closures and inliers.
+  const std::vector<RobotPairAlignment>& pairs() const { return pairs_; }
+  size_t realignments() const { return realignments_; }
+
+ private:
+  InitialAlignmentOptions options_;
+  std::map<RobotId, RobotFrameAlignment> aligned_;
+  std::vector<RobotPairAlignment> pairs_;
+  size_t realignments_ = 0;
+};
+
+}  // namespace hydra_multi

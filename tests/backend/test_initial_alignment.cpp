@@ -1,0 +1,128 @@
+// Initial alignment from known transforms, with outlier loop closures among the inter-robot ones.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "hydra_multi/backend/initial_alignment.h"
+#include "hydra_multi/core/se3.h"
+
+namespace hydra_multi {
+namespace {
+
+struct Team {
+  SceneGraph frontend;
+  std::map<RobotId, Eigen::Isometry3d> T_global_robot;  // the truth
+  std::map<RobotId, std::vector<Eigen::Isometry3d>> truth;  // global poses of the keyframes
+};
+
+NodeId keyframeId(RobotId robot, size_t k) { return NodeId::station(robot.prefix(), robot, k); }
+
+// Robots driving the same loop of 40 keyframes in the global frame, each recorded in its own
+// frame (its first pose), shifted along the loop so that they start at different places.
+Team team(size_t robots) {
+  Team t;
+  for (size_t r = 0; r < robots; ++r) {
+    const RobotId robot(static_cast<uint8_t>(r));
+    std::vector<Eigen::Isometry3d> global;
+    for (size_t k = 0; k < 40; ++k) {
+      const double angle = 2.0 * M_PI * double(k + 10 * r) / 40.0;
+      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+      T.translation() << 10.0 * std::cos(angle), 10.0 * std::sin(angle), 0.0;
+      T.linear() = Eigen::AngleAxisd(angle + M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+      global.push_back(T);
+    }
+    t.T_global_robot[robot] = global.front();
+    for (size_t k = 0; k < global.size(); ++k) {
+      const Eigen::Isometry3d local = global.front().inverse() * global[k];
+      Node node = makeNode(keyframeId(robot, k), Layer::kAgents, local.translation());
+      node.find<AgentAttributes>()->orientation = Eigen::Quaterniond(local.linear());
+      node.find<AgentAttributes>()->timestamp_ns = static_cast<int64_t>(k) * 1000000000;
+      t.frontend.addOrUpdateNode(node);
+    }
+    t.truth[robot] = global;
+  }
+  return t;
+}
+
+// `good` true loop closures between robots a and b (same global pose, noisy) and `bad` wrong ones.
+std::vector<PoseGraphEdge> closures(const Team& t, RobotId a, RobotId b, size_t good, size_t bad,
+                                    uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<size_t> pick(0, 39);
+  std::normal_distribution<double> noise(0.0, 0.02), rotation(0.0, 0.005), unit(0.0, 1.0);
+  std::vector<PoseGraphEdge> edges;
+  for (size_t i = 0; i < good + bad; ++i) {
+    PoseGraphEdge e;
+    e.kind = PoseGraphEdge::Kind::kLoopClosure;
+    const size_t ka = pick(rng), kb = pick(rng);
+    e.from = keyframeId(a, ka);
+    e.to = keyframeId(b, kb);
+    e.T_from_to = t.truth.at(a)[ka].inverse() * t.truth.at(b)[kb];
+    Vector6d xi;
+    xi << noise(rng), noise(rng), noise(rng), rotation(rng), rotation(rng), rotation(rng);
+    if (i >= good) {  // 4-8 m and 30-90 degrees off, in a random direction
+      const double angle = 2 * M_PI * std::abs(unit(rng)), metres = 4.0 + std::fmod(std::abs(4 * unit(rng)), 4.0);
+      xi << metres * std::cos(angle), metres * std::sin(angle), 0, 0, 0,
+          (unit(rng) < 0 ? -1 : 1) * (0.5 + std::fmod(std::abs(unit(rng)), 1.0));
+    }
+    e.T_from_to = e.T_from_to * expSE3(xi);
+    edges.push_back(e);
+  }
+  return edges;
+}
+
+TEST(InitialAlignment, KnownTransformsDespiteOutliers) {
+  const Team t = team(3);
+  const RobotId a(0), b(1), c(2);
+  std::vector<PoseGraphEdge> edges = closures(t, a, b, 12, 20, 1);
+  const auto bc = closures(t, b, c, 10, 10, 2);
+  edges.insert(edges.end(), bc.begin(), bc.end());
+  InitialAlignment alignment;
+  const auto& aligned = alignment.update(t.frontend, edges, a);
+  ASSERT_EQ(aligned.size(), 3u);
+  for (const auto& [robot, frame] : aligned) {
+    // Relative to robot a's frame, the global frame of this test.
+    const Eigen::Isometry3d expected = t.T_global_robot.at(a).inverse() * t.T_global_robot.at(robot);
+    EXPECT_LT((frame.T_global_robot.translation() - expected.translation()).norm(), 0.1)
+        << robot.str();
+    EXPECT_LT(Eigen::AngleAxisd(frame.T_global_robot.linear().transpose() * expected.linear()).angle(),
+              0.02);
+  }
+  EXPECT_GE(aligned.at(b).inliers, 10u);
+}
+
+// A robot with fewer than k = 5 agreeing loop closures stays in its own frame.
+TEST(InitialAlignment, TooFewInliersStaysUnaligned) {
+  const Team t = team(2);
+  InitialAlignment alignment;
+  const auto& aligned = alignment.update(t.frontend, closures(t, RobotId(0), RobotId(1), 4, 6, 3),
+                                         RobotId(0));
+  EXPECT_TRUE(alignment.isAligned(RobotId(0)));
+  EXPECT_FALSE(alignment.isAligned(RobotId(1)));
+  EXPECT_EQ(aligned.size(), 1u);
+}
+
+// Once aligned, a robot keeps its alignment unless the optimized result moves its start by more
+// than 10 m.
+TEST(InitialAlignment, RealignsOnlyOnLargeDisagreement) {
+  const Team t = team(2);
+  const RobotId a(0), b(1);
+  InitialAlignment alignment;
+  alignment.update(t.frontend, closures(t, a, b, 10, 0, 4), a);
+  const Eigen::Isometry3d first = alignment.aligned().at(b).T_global_robot;
+  // The optimizer agrees within 3 m: kept, even though new loop closures would say otherwise.
+  Eigen::Isometry3d near = first;
+  near.translation().x() += 3.0;
+  alignment.update(t.frontend, closures(t, a, b, 10, 0, 5), a, {{b, near}});
+  EXPECT_EQ(alignment.realignments(), 0u);
+  EXPECT_TRUE(alignment.aligned().at(b).T_global_robot.isApprox(first));
+  Eigen::Isometry3d far = first;
+  far.translation().x() += 15.0;
+  alignment.update(t.frontend, closures(t, a, b, 10, 0, 6), a, {{b, far}});
+  EXPECT_EQ(alignment.realignments(), 1u);
+}
+
+}  // namespace
+}  // namespace hydra_multi
