@@ -1,0 +1,142 @@
+#include "hydra_multi/backend/backend.h"
+
+#include <chrono>
+#include <limits>
+
+#include "hydra_multi/core/nearest_neighbors.h"
+
+namespace hydra_multi {
+
+BackendRoundReport Backend::round(const SceneGraph& frontend,
+                                  const std::vector<BackendRobot>& robots,
+                                  const std::vector<PoseGraphEdge>& inter_robot, RobotId root) {
+  const auto start = std::chrono::steady_clock::now();
+  BackendRoundReport report;
+  report.robots = robots.size();
+  report.inter_robot_loop_closures = inter_robot.size();
+
+  // 1. Alignment.
+  const auto& aligned = alignment_.update(frontend, inter_robot, root, optimized_first_keyframes_);
+  report.robots_aligned = aligned.size();
+
+  // 2. Deformation graph of the aligned robots.
+  std::vector<RobotDeformationInput> inputs;
+  std::vector<const BackendRobot*> included;
+  for (const BackendRobot& robot : robots) {
+    const auto it = aligned.find(robot.robot);
+    if (it == aligned.end()) continue;
+    inputs.push_back({robot.robot, it->second.T_global_robot, robot.pose_graph,
+                      robot.control_points, robot.control_point_edges});
+    included.push_back(&robot);
+  }
+  const DeformationGraph dg =
+      buildDeformationGraph(frontend, inputs, inter_robot, {}, options_.deformation);
+  const DeformationResult result = optimizeDeformationGraph(dg, options_.deformation);
+  inliers_.clear();
+  for (const PoseGraphEdge& e : inter_robot) {
+    const auto it = result.robust_inlier.find({e.from, e.to});
+    if (it == result.robust_inlier.end()) continue;
+    inliers_[{e.from, e.to}] = it->second;
+    report.inter_robot_inliers += it->second;
+  }
+
+  // 3. The backend graph.
+  SceneGraph graph;
+  optimized_first_keyframes_.clear();
+  for (size_t r = 0; r < included.size(); ++r) {
+    const BackendRobot& robot = *included[r];
+    const Eigen::Isometry3d& T = inputs[r].T_global_robot;
+    // Control points before and after, for the mesh and for objects without vertices.
+    std::vector<Eigen::Isometry3d> cp_initial, cp_optimized;
+    if (robot.control_points != nullptr) {
+      for (const ControlPoint& cp : *robot.control_points) {
+        const NodeId id = controlPointId(robot.robot, cp.id);
+        const auto a = dg.initial.find(id);
+        const auto b = result.poses.find(id);
+        if (a == dg.initial.end() || b == result.poses.end()) continue;
+        cp_initial.push_back(a->second);
+        cp_optimized.push_back(b->second);
+      }
+    }
+    // The mesh: aligned, then deformed.
+    std::vector<MeshVertex> before, after;
+    if (robot.mesh != nullptr) {
+      for (MeshVertex v : robot.mesh->vertices) {
+        v.position = (T * v.position.cast<double>()).cast<float>();
+        before.push_back(v);
+      }
+      after = before;
+      deformMesh(after, cp_initial, cp_optimized, options_.mesh_neighbours);
+    }
+    std::vector<Eigen::Vector3d> cp_centres;
+    for (const Eigen::Isometry3d& c : cp_initial) cp_centres.push_back(c.translation());
+    const NearestNeighbors near_cp(cp_centres);
+    const uint64_t vertex_offset = graph.mesh().vertices.size();
+    int64_t first_time = std::numeric_limits<int64_t>::max();
+    for (const NodeId id : frontend.nodesOfRobot(robot.robot)) {
+      Node node = frontend.getNode(id);
+      if (node.layer() == Layer::kAgents || node.layer() == Layer::kPlaces) {
+        const auto pose = result.poses.find(id);
+        if (pose == result.poses.end()) continue;
+        node.position = pose->second.translation();
+        if (AgentAttributes* agent = node.find<AgentAttributes>()) {
+          agent->orientation = Eigen::Quaterniond(pose->second.linear()).normalized();
+          if (agent->timestamp_ns < first_time) {
+            first_time = agent->timestamp_ns;
+            optimized_first_keyframes_[robot.robot] = pose->second;
+          }
+        }
+      } else if (ObjectAttributes* object = node.find<ObjectAttributes>()) {
+        // Moved as its mesh vertices moved, or as its nearest control point moved.
+        const Eigen::Vector3d aligned_position = T * node.position;
+        Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+        size_t counted = 0;
+        for (const uint64_t v : object->mesh_vertices) {
+          if (v >= before.size()) continue;
+          shift += (after[v].position - before[v].position).cast<double>();
+          ++counted;
+        }
+        if (counted > 0) {
+          shift /= double(counted);
+        } else if (!cp_centres.empty()) {
+          const size_t c = near_cp.nearest(aligned_position).front().index;
+          shift = cp_optimized[c] * (cp_initial[c].inverse() * aligned_position) - aligned_position;
+        }
+        node.position = aligned_position + shift;
+        if (object->semantic.bounding_box) {
+          const Eigen::Vector3d half =
+              0.5 * (object->semantic.bounding_box->max - object->semantic.bounding_box->min);
+          object->semantic.bounding_box = BoundingBox{node.position - half, node.position + half};
+        }
+        for (uint64_t& v : object->mesh_vertices) v += vertex_offset;
+      } else {
+        continue;  // rooms and buildings are the backend's own
+      }
+      graph.addOrUpdateNode(std::move(node));
+    }
+    for (const MeshVertex& v : after) graph.mesh().vertices.push_back(v);
+    if (robot.mesh != nullptr) {
+      for (MeshFace f : robot.mesh->faces) {
+        for (uint32_t& i : f) i += static_cast<uint32_t>(vertex_offset);
+        graph.mesh().faces.push_back(f);
+      }
+    }
+  }
+  for (const auto& [key, info] : frontend.edges()) {
+    if (graph.hasNode(key.first()) && graph.hasNode(key.second()))
+      graph.addOrUpdateEdge(key.first(), key.second(), info);
+  }
+
+  // 4. Rooms.
+  if (options_.segment_rooms) {
+    const RoomSegmentation rooms = segmentRooms(graph, options_.rooms);
+    applyRooms(graph, rooms);
+    report.rooms = rooms.rooms.size();
+  }
+  graph_ = std::move(graph);
+  report.nodes = graph_.numNodes();
+  report.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
+}  // namespace hydra_multi

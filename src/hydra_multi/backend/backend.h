@@ -1,0 +1,65 @@
+#pragma once
+// One backend round (paper III-B, DESIGN.md "Data flow"): from the frontend's state to the
+// backend graph, optimized and in one global frame (robot `root`'s):
+//   1. InitialAlignment of the robots from the inter-robot loop closures (initial_alignment.h);
+//   2. the deformation graph of the aligned robots, solved with GNC (deformation_graph.h);
+//   3. the backend graph: keyframes and places at their optimized poses, every robot's mesh
+//      aligned and deformed with its control points, objects moved with their mesh vertices (or
+//      with their nearest control point when they have none);
+//   4. rooms segmented over the optimized places (room_segmentation.h).
+// Robots not aligned yet are left out of the backend graph until they are.
+// Not yet here: reconciliation proposals and node merging (README: missing).
+
+#include <vector>
+
+#include "hydra_multi/backend/deformation_graph.h"
+#include "hydra_multi/backend/initial_alignment.h"
+#include "hydra_multi/backend/room_segmentation.h"
+
+namespace hydra_multi {
+
+/// What the backend reads of one robot's frontend state (station ids, the robot's own frame).
+struct BackendRobot {
+  RobotId robot;
+  const std::vector<PoseGraphEdge>* pose_graph = nullptr;
+  const std::vector<ControlPoint>* control_points = nullptr;
+  const std::vector<ControlPointEdge>* control_point_edges = nullptr;
+  const Mesh* mesh = nullptr;
+};
+
+struct BackendOptions {
+  InitialAlignmentOptions alignment;
+  DeformationGraphOptions deformation;
+  RoomSegmentationOptions rooms;
+  bool segment_rooms = true;
+  size_t mesh_neighbours = 4;  ///< control points that move a mesh vertex
+};
+
+struct BackendRoundReport {
+  size_t robots = 0, robots_aligned = 0;
+  size_t inter_robot_loop_closures = 0, inter_robot_inliers = 0;
+  size_t nodes = 0, rooms = 0;
+  double time_s = 0.0;
+};
+
+class Backend {
+ public:
+  explicit Backend(BackendOptions options = {}) : options_(std::move(options)) {}
+
+  BackendRoundReport round(const SceneGraph& frontend, const std::vector<BackendRobot>& robots,
+                           const std::vector<PoseGraphEdge>& inter_robot, RobotId root);
+
+  const SceneGraph& graph() const { return graph_; }
+  const InitialAlignment& alignment() const { return alignment_; }
+  /// Per inter-robot loop closure (from, to) of the last round: kept by GNC.
+  const std::map<std::pair<NodeId, NodeId>, bool>& loopClosureInliers() const { return inliers_; }
+
+ private:
+  BackendOptions options_;
+  InitialAlignment alignment_;
+  SceneGraph graph_;
+  std::map<RobotId, Eigen::Isometry3d> optimized_first_keyframes_;
+  std::map<std::pair<NodeId, NodeId>, bool> inliers_;
+};
+
+}  // namespace hydra_multi

@@ -1,0 +1,193 @@
+#include "hydra_multi/backend/deformation_graph.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "hydra_multi/core/nearest_neighbors.h"
+
+namespace hydra_multi {
+namespace {
+
+Eigen::Isometry3d keyframePose(const Node& node) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  if (const AgentAttributes* agent = node.find<AgentAttributes>())
+    T.linear() = agent->orientation.normalized().toRotationMatrix();
+  T.translation() = node.position;
+  return T;
+}
+
+Eigen::Isometry3d at(const Eigen::Vector3d& p) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = p;
+  return T;
+}
+
+Matrix6d isotropic(double variance) { return Matrix6d::Identity() / variance; }
+
+PoseGraphEdge edge(NodeId from, NodeId to, const Eigen::Isometry3d& T_from_to, double variance,
+                   PoseGraphEdge::Kind kind = PoseGraphEdge::Kind::kOdometry) {
+  PoseGraphEdge e;
+  e.from = from;
+  e.to = to;
+  e.T_from_to = T_from_to;
+  e.information = isotropic(variance);
+  e.kind = kind;
+  return e;
+}
+
+// A gauge prior: the weakest of links from the anchor to a robot's first keyframe, so that a
+// robot whose every inter-robot factor GNC rejects still has a defined place (as aligned).
+constexpr double kGaugeVariance = 1e6;
+
+}  // namespace
+
+NodeId controlPointId(RobotId robot, uint64_t index) {
+  return NodeId::station('M', robot, index);
+}
+
+DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
+                                       const std::vector<RobotDeformationInput>& robots,
+                                       const std::vector<PoseGraphEdge>& inter_robot,
+                                       const std::vector<PoseGraphEdge>& merges,
+                                       const DeformationGraphOptions& options) {
+  DeformationGraph dg;
+  std::vector<NodeId> first_keyframes;
+  for (const RobotDeformationInput& input : robots) {
+    const Eigen::Isometry3d& T = input.T_global_robot;
+    std::map<NodeId, Eigen::Isometry3d> local;  // keyframes in the robot's frame
+    std::vector<NodeId> places;
+    NodeId first;
+    int64_t first_time = std::numeric_limits<int64_t>::max();
+    for (const NodeId id : frontend.nodesOfRobot(input.robot)) {
+      const Node& node = frontend.getNode(id);
+      if (node.layer() == Layer::kAgents) {
+        local[id] = keyframePose(node);
+        dg.initial[id] = T * local[id];
+        const int64_t t = node.find<AgentAttributes>()->timestamp_ns;
+        if (t < first_time) {
+          first_time = t;
+          first = id;
+        }
+      } else if (node.layer() == Layer::kPlaces) {
+        places.push_back(id);
+      }
+    }
+    if (local.empty()) continue;
+    first_keyframes.push_back(first);
+    if (input.pose_graph != nullptr) {
+      for (const PoseGraphEdge& e : *input.pose_graph) {
+        if (!local.count(e.from) || !local.count(e.to)) continue;
+        dg.graph.edges.push_back(e);
+        if (e.kind == PoseGraphEdge::Kind::kLoopClosure) ++dg.robust_factors;
+      }
+    }
+    // Mesh control points, their rigidity and the keyframes that observed them.
+    std::vector<Eigen::Vector3d> cp_positions;
+    std::vector<NodeId> cp_ids;
+    std::map<uint64_t, Eigen::Vector3d> cp_by_index;
+    if (input.control_points != nullptr) {
+      for (const ControlPoint& cp : *input.control_points) {
+        const NodeId id = controlPointId(input.robot, cp.id);
+        dg.initial[id] = T * at(cp.position);
+        cp_positions.push_back(cp.position);
+        cp_ids.push_back(id);
+        cp_by_index[cp.id] = cp.position;
+        const auto keyframe = local.find(cp.keyframe);
+        if (keyframe != local.end()) {
+          dg.graph.edges.push_back(edge(cp.keyframe, id, keyframe->second.inverse() * at(cp.position),
+                                        options.mesh_variance));
+        }
+      }
+    }
+    if (input.control_point_edges != nullptr) {
+      for (const ControlPointEdge& e : *input.control_point_edges) {
+        const auto a = cp_by_index.find(e.from), b = cp_by_index.find(e.to);
+        if (a == cp_by_index.end() || b == cp_by_index.end()) continue;
+        dg.graph.edges.push_back(edge(controlPointId(input.robot, e.from),
+                                      controlPointId(input.robot, e.to), at(b->second - a->second),
+                                      options.mesh_variance));
+      }
+    }
+    // Places: linked to the nearest control point, or else the nearest keyframe.
+    const NearestNeighbors near_cp(cp_positions);
+    std::vector<Eigen::Vector3d> kf_positions;
+    std::vector<NodeId> kf_ids;
+    for (const auto& [id, pose] : local) {
+      kf_positions.push_back(pose.translation());
+      kf_ids.push_back(id);
+    }
+    const NearestNeighbors near_kf(kf_positions);
+    for (const NodeId place : places) {
+      const Eigen::Vector3d p = frontend.getNode(place).position;
+      dg.initial[place] = T * at(p);
+      const auto cp = near_cp.nearest(p);
+      if (!cp.empty() && cp.front().distance <= options.place_link_radius) {
+        dg.graph.edges.push_back(edge(cp_ids[cp.front().index], place,
+                                      at(p - cp_positions[cp.front().index]), options.mesh_variance));
+      } else {
+        const size_t k = near_kf.nearest(p).front().index;
+        dg.graph.edges.push_back(
+            edge(kf_ids[k], place, local[kf_ids[k]].inverse() * at(p), options.mesh_variance));
+      }
+    }
+  }
+  if (first_keyframes.empty()) return dg;
+  dg.anchor = first_keyframes.front();
+  for (size_t r = 1; r < first_keyframes.size(); ++r) {
+    dg.graph.edges.push_back(edge(dg.anchor, first_keyframes[r],
+                                  dg.initial[dg.anchor].inverse() * dg.initial[first_keyframes[r]],
+                                  kGaugeVariance));
+  }
+  for (const auto* list : {&inter_robot, &merges}) {
+    for (PoseGraphEdge e : *list) {
+      if (!dg.initial.count(e.from) || !dg.initial.count(e.to)) continue;
+      e.kind = PoseGraphEdge::Kind::kLoopClosure;
+      dg.graph.edges.push_back(e);
+      ++dg.robust_factors;
+      if (list == &inter_robot) ++dg.inter_robot_factors;
+    }
+  }
+  dg.graph.poses = dg.initial;
+  return dg;
+}
+
+DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
+                                           const DeformationGraphOptions& options) {
+  DeformationResult result;
+  if (graph.initial.empty()) return result;
+  result.solve = optimizePoseGraph(graph.graph, graph.initial, graph.anchor, options.solver);
+  result.poses = result.solve.poses;
+  for (size_t i = 0; i < graph.graph.edges.size(); ++i) {
+    const PoseGraphEdge& e = graph.graph.edges[i];
+    if (e.kind == PoseGraphEdge::Kind::kLoopClosure && i < result.solve.edge_inlier.size())
+      result.robust_inlier[{e.from, e.to}] = result.solve.edge_inlier[i];
+  }
+  return result;
+}
+
+void deformMesh(std::vector<MeshVertex>& vertices, const std::vector<Eigen::Isometry3d>& initial,
+                const std::vector<Eigen::Isometry3d>& optimized, size_t k) {
+  if (initial.empty() || initial.size() != optimized.size() || k == 0) return;
+  std::vector<Eigen::Vector3d> centres;
+  for (const Eigen::Isometry3d& T : initial) centres.push_back(T.translation());
+  const NearestNeighbors index(centres);
+  for (MeshVertex& vertex : vertices) {
+    const Eigen::Vector3d v = vertex.position.cast<double>();
+    const auto nearest = index.nearest(v, k + 1);
+    // d_max: the (k+1)-th neighbour's distance, so the k nearest all weigh more than zero.
+    const double d_max = nearest.size() > k ? nearest[k].distance
+                                            : nearest.back().distance * 1.01 + 1e-9;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    double total = 0.0;
+    for (size_t j = 0; j < nearest.size() && j < k; ++j) {
+      const size_t c = nearest[j].index;
+      const double w = std::max(1e-9, 1.0 - nearest[j].distance / std::max(d_max, 1e-9));
+      const Eigen::Matrix3d R = optimized[c].linear() * initial[c].linear().transpose();
+      sum += w * (R * (v - initial[c].translation()) + optimized[c].translation());
+      total += w;
+    }
+    vertex.position = (sum / total).cast<float>();
+  }
+}
+
+}  // namespace hydra_multi

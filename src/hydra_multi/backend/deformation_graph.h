@@ -1,0 +1,79 @@
+#pragma once
+// The embedded deformation graph of the whole team (paper III-B, eq. 3; Sumner 2007, Kimera-PGMO),
+// as one SE(3) pose graph solved robustly (optim/robust_pose_graph.h, GNC with TLS):
+//   nodes    every aligned robot's keyframes, mesh control points and places, initialized in the
+//            global frame through the robot's alignment (initial_alignment.h);
+//   factors  known inliers: odometry, mesh rigidity between connected control points, links from
+//            keyframes to the control points they observed, links from places to their nearest
+//            control point (or keyframe); robust: the robots' own loop closures, inter-robot loop
+//            closures and merge candidates (ReconciliationProposals), all under GNC.
+// Kimera-PGMO's variances: odometry 1e-2, loop closures 5e-2, mesh 1e-2 (information = 1/variance
+// on every axis), used unless an edge carries its own information.
+//
+// After the solve, mesh vertices move with their k nearest control points (deformMesh):
+//   v' = sum_j w_j (R_j R0_j^T (v - g_j) + t_j) / sum_j w_j,   w_j = 1 - d_j / d_max,
+// with g_j, R0_j a control point's initial position and rotation, (R_j, t_j) its optimized pose,
+// and d_max the distance to the (k+1)-th nearest control point.
+
+#include <map>
+#include <vector>
+
+#include "hydra_multi/dsg/mesh.h"
+#include "hydra_multi/dsg/robot_update.h"
+#include "hydra_multi/dsg/scene_graph.h"
+#include "hydra_multi/optim/robust_pose_graph.h"
+
+namespace hydra_multi {
+
+/// What the deformation graph needs of one robot: its frontend state, in station ids.
+struct RobotDeformationInput {
+  RobotId robot;
+  Eigen::Isometry3d T_global_robot = Eigen::Isometry3d::Identity();
+  const std::vector<PoseGraphEdge>* pose_graph = nullptr;  ///< odometry, own loop closures
+  const std::vector<ControlPoint>* control_points = nullptr;
+  const std::vector<ControlPointEdge>* control_point_edges = nullptr;
+};
+
+struct DeformationGraphOptions {
+  double odometry_variance = 1e-2;
+  double loop_closure_variance = 5e-2;
+  double mesh_variance = 1e-2;
+  double place_link_radius = 3.0;  ///< m: a place links to a control point this close, else
+                                   ///< to its nearest keyframe
+  RobustPgoOptions solver;
+};
+
+/// The control point node id of robot r's control point `index`.
+NodeId controlPointId(RobotId robot, uint64_t index);
+
+struct DeformationGraph {
+  PoseGraph graph;                                ///< every node and factor
+  std::map<NodeId, Eigen::Isometry3d> initial;    ///< global frame, before optimization
+  NodeId anchor;                                  ///< the root robot's first keyframe
+  size_t robust_factors = 0, inter_robot_factors = 0;
+};
+
+/// Assembles the deformation graph of the aligned robots. `frontend` holds every robot's nodes in
+/// its own frame; `inter_robot` and `merges` are robust factors between station ids.
+DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
+                                       const std::vector<RobotDeformationInput>& robots,
+                                       const std::vector<PoseGraphEdge>& inter_robot,
+                                       const std::vector<PoseGraphEdge>& merges,
+                                       const DeformationGraphOptions& options = {});
+
+struct DeformationResult {
+  std::map<NodeId, Eigen::Isometry3d> poses;  ///< optimized, global frame
+  std::map<std::pair<NodeId, NodeId>, bool> robust_inlier;  ///< per robust factor (from, to)
+  RobustPgoResult solve;
+};
+
+DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
+                                           const DeformationGraphOptions& options = {});
+
+/// Moves mesh vertices (global frame, before optimization) with their k nearest control points:
+/// `initial` and `optimized` poses of the control points.
+void deformMesh(std::vector<MeshVertex>& vertices,
+                const std::vector<Eigen::Isometry3d>& initial,
+                const std::vector<Eigen::Isometry3d>& optimized, size_t k = 4);
+
+}  // namespace hydra_multi
