@@ -75,10 +75,14 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
     if (local.empty()) continue;
     first_keyframes.push_back(first);
     if (input.pose_graph != nullptr) {
-      for (const PoseGraphEdge& e : *input.pose_graph) {
+      for (PoseGraphEdge e : *input.pose_graph) {
         if (!local.count(e.from) || !local.count(e.to)) continue;
+        const bool closure = e.kind == PoseGraphEdge::Kind::kLoopClosure;
+        if (!options.use_sent_information)
+          e.information =
+              isotropic(closure ? options.loop_closure_variance : options.odometry_variance);
         dg.graph.edges.push_back(e);
-        if (e.kind == PoseGraphEdge::Kind::kLoopClosure) ++dg.robust_factors;
+        if (closure) ++dg.robust_factors;
       }
     }
     // Mesh control points, their rigidity and the keyframes that observed them.
@@ -142,6 +146,8 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
     for (PoseGraphEdge e : *list) {
       if (!dg.initial.count(e.from) || !dg.initial.count(e.to)) continue;
       e.kind = PoseGraphEdge::Kind::kLoopClosure;
+      if (!options.use_sent_information && list == &inter_robot)
+        e.information = isotropic(options.loop_closure_variance);
       dg.graph.edges.push_back(e);
       ++dg.robust_factors;
       if (list == &inter_robot) ++dg.inter_robot_factors;

@@ -8,7 +8,10 @@
 //            control point (or keyframe); robust: the robots' own loop closures, inter-robot loop
 //            closures and merge candidates (ReconciliationProposals), all under GNC.
 // Kimera-PGMO's variances: odometry 1e-2, loop closures 5e-2, mesh 1e-2 (information = 1/variance
-// on every axis), used unless an edge carries its own information.
+// on every axis). They replace the information the robots and the detector attach to their edges
+// (use_sent_information false): a robot's odometry information describes its random noise only,
+// not its biases, and would hold the trajectories too stiff for the loop closures to bend them
+// (measured: GNC then rejects correct inter-robot loop closures).
 //
 // After the solve, mesh vertices move with their k nearest control points (deformMesh):
 //   v' = sum_j w_j (R_j R0_j^T (v - g_j) + t_j) / sum_j w_j,   w_j = 1 - d_j / d_max,
@@ -38,6 +41,7 @@ struct DeformationGraphOptions {
   double odometry_variance = 1e-2;
   double loop_closure_variance = 5e-2;
   double mesh_variance = 1e-2;
+  bool use_sent_information = false;
   double place_link_radius = 3.0;  ///< m: a place links to a control point this close, else
                                    ///< to its nearest keyframe
   RobustPgoOptions solver;

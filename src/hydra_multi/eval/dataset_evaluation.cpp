@@ -57,13 +57,19 @@ SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundT
     }
   }
   score.matched_keyframes = estimate.size();
-  if (auto ate = absoluteTrajectoryError(estimate, reference); ate)
+  Eigen::Isometry3d T_world_graph = T_world_global;
+  if (auto ate = absoluteTrajectoryError(estimate, reference); ate) {
     score.ate_rmse_m = ate.value().statistics.rmse;
+    // The paper registers the ground truth to the first robot's frame (by ICP of the meshes):
+    // the graph is scored after the best rigid fit of its keyframes to the truth.
+    T_world_graph = ate.value().T_reference_estimate;
+    score.aligned_by_trajectory = true;
+  }
 
   std::vector<LabelledPoint> objects;
   for (const NodeId id : graph.nodesInLayer(Layer::kObjects)) {
     const Node& node = graph.getNode(id);
-    objects.push_back({node.semantic()->label, T_world_global * node.position});
+    objects.push_back({node.semantic()->label, T_world_graph * node.position});
   }
   score.num_objects = objects.size();
   const ObjectMetrics object_metrics =
@@ -73,7 +79,7 @@ SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundT
 
   std::vector<Eigen::Vector3d> places;
   for (const NodeId id : graph.nodesInLayer(Layer::kPlaces))
-    places.push_back(T_world_global * graph.getNode(id).position);
+    places.push_back(T_world_graph * graph.getNode(id).position);
   score.num_places = places.size();
   score.places_position_error_m = placesPositionError(places, truth.gvd);
 
@@ -86,7 +92,7 @@ SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundT
       const Node& place = graph.getNode(child);
       const PlaceAttributes* attributes = place.find<PlaceAttributes>();
       if (attributes == nullptr) continue;
-      const Eigen::Vector3d p = T_world_global * place.position;
+      const Eigen::Vector3d p = T_world_graph * place.position;
       const GroundTruthGrid* grid = truth.gridFor(p.z());
       if (grid == nullptr) continue;
       const int reach = static_cast<int>(std::ceil(attributes->distance / grid->resolution));

@@ -3,11 +3,14 @@
 //   ATE      over every agent (keyframe) node, matched to its robot's true keyframe by time,
 //            after an SE(3) Umeyama alignment;
 //   objects  % found / % correct at the dataset's threshold (1 m office, 2 m dorm, 3 m
-//            residence), objects taken to the world frame by robot 0's true start pose;
+//            residence);
 //   places   mean distance to the nearest true GVD voxel;
 //   rooms    precision / recall over free-space cells: an estimated room holds the true free
 //            cells inside the free-space spheres of its child places.
-// The graph is in the global frame, which is robot 0's odometric frame.
+// The graph is in the global frame, which is robot 0's odometric frame. Objects, places and rooms
+// are scored after the SE(3) fit of the graph's keyframes to their true poses (the ATE's
+// alignment), as the paper registers its ground truth to the first robot's frame by ICP of the
+// meshes; without 3 matched keyframes, robot 0's true start pose places the graph instead.
 
 #include <optional>
 #include <string>
@@ -24,6 +27,7 @@ struct SceneGraphScore {
   std::optional<double> rooms_precision, rooms_recall;
   size_t num_objects = 0, num_places = 0, num_rooms = 0;
   size_t matched_keyframes = 0;
+  bool aligned_by_trajectory = false;  ///< false: placed by robot 0's true start pose
 };
 
 SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundTruth& truth);

@@ -59,7 +59,7 @@ SensorProfile lidarProfile();
 struct MapperOptions {
   double update_period_s = 5.0;
   double mesh_noise_sigma = 0.01;      ///< per vertex and axis (m)
-  double control_point_spacing = 1.5;  ///< deformation-graph voxel (m)
+  double control_point_spacing = 2.5;  ///< deformation-graph voxel (m; Hydra: 2.5)
   double keypoint_sigma_base = 0.002;  ///< keypoint noise a + b * depth^2 (m), RGB-D-like
   double keypoint_sigma_per_m2 = 0.002;
   double split_probability = 0.15;     ///< of a detection of an object at least 1 m long
