@@ -8,14 +8,6 @@
 namespace hydra_multi {
 namespace {
 
-Eigen::Isometry3d keyframePose(const Node& node) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  if (const AgentAttributes* agent = node.find<AgentAttributes>())
-    T.linear() = agent->orientation.normalized().toRotationMatrix();
-  T.translation() = node.position;
-  return T;
-}
-
 Eigen::Isometry3d at(const Eigen::Vector3d& p) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translation() = p;
@@ -61,7 +53,7 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
     for (const NodeId id : frontend.nodesOfRobot(input.robot)) {
       const Node& node = frontend.getNode(id);
       if (node.layer() == Layer::kAgents) {
-        local[id] = keyframePose(node);
+        local[id] = nodePose(node);
         dg.initial[id] = T * local[id];
         const int64_t t = node.find<AgentAttributes>()->timestamp_ns;
         if (t < first_time) {

@@ -1,17 +1,6 @@
 #include "hydra_multi/backend/initial_alignment.h"
 
 namespace hydra_multi {
-namespace {
-
-Eigen::Isometry3d keyframePose(const Node& node) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  if (const AgentAttributes* agent = node.find<AgentAttributes>())
-    T.linear() = agent->orientation.normalized().toRotationMatrix();
-  T.translation() = node.position;
-  return T;
-}
-
-}  // namespace
 
 const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
     const SceneGraph& frontend, const std::vector<PoseGraphEdge>& inter_robot, RobotId root,
@@ -30,7 +19,7 @@ const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
     const Node& node = frontend.getNode(id);
     const auto robot = node.robot();
     if (!robot || !index.count(*robot)) continue;
-    poses[id] = keyframePose(node);
+    poses[id] = nodePose(node);
     robot_of[id] = index[*robot];
     const int64_t t = node.find<AgentAttributes>()->timestamp_ns;
     const auto it = first_keyframe.find(*robot);

@@ -79,4 +79,12 @@ Status validateNode(const Node& node) {
   return Status::Ok();
 }
 
+Eigen::Isometry3d nodePose(const Node& node) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  if (const AgentAttributes* agent = node.find<AgentAttributes>())
+    T.linear() = agent->orientation.normalized().toRotationMatrix();
+  T.translation() = node.position;
+  return T;
+}
+
 }  // namespace hydra_multi

@@ -122,6 +122,9 @@ struct Node {
   bool operator!=(const Node& o) const { return !(*this == o); }
 };
 
+/// A node's pose: its position, and for an agent its orientation (no rotation for the others).
+Eigen::Isometry3d nodePose(const Node& node);
+
 /// A node of `layer` with default attributes.
 Node makeNode(NodeId id, Layer layer, const Eigen::Vector3d& position = Eigen::Vector3d::Zero());
 

@@ -229,10 +229,7 @@ Result<DatasetDifficulty> measureDatasetDifficulty(const std::string& dir, size_
       const AgentAttributes* a = node.find<AgentAttributes>();
       const Eigen::Isometry3d* T = truth.poseAt(robot, a->timestamp_ns);
       if (T == nullptr) continue;
-      Eigen::Isometry3d odom = Eigen::Isometry3d::Identity();
-      odom.linear() = a->orientation.toRotationMatrix();
-      odom.translation() = node.position;
-      corrections.emplace_back(a->timestamp_ns, *T * odom.inverse());
+      corrections.emplace_back(a->timestamp_ns, *T * nodePose(node).inverse());
     }
     std::sort(corrections.begin(), corrections.end(),
               [](const auto& x, const auto& y) { return x.first < y.first; });

@@ -5,14 +5,6 @@
 namespace hydra_multi {
 namespace {
 
-Eigen::Isometry3d keyframePose(const Node& node) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  if (const AgentAttributes* agent = node.find<AgentAttributes>())
-    T.linear() = agent->orientation.normalized().toRotationMatrix();
-  T.translation() = node.position;
-  return T;
-}
-
 Matrix6d information(double translation_sigma, double rotation_sigma) {
   Matrix6d info = Matrix6d::Zero();
   info.diagonal() << Eigen::Vector3d::Constant(1.0 / (translation_sigma * translation_sigma)),
@@ -152,8 +144,8 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::verifyObjects(
   closure.robot_b = query.robot;
   closure.keyframe_a = candidate.d.keyframe;
   closure.keyframe_b = query.d.keyframe;
-  closure.T_a_b = keyframePose(graph.getNode(candidate.d.keyframe)).inverse() * T_candidate_query *
-                  keyframePose(graph.getNode(query.d.keyframe));
+  closure.T_a_b = nodePose(graph.getNode(candidate.d.keyframe)).inverse() * T_candidate_query *
+                  nodePose(graph.getNode(query.d.keyframe));
   closure.information =
       information(options_.object_translation_sigma, options_.object_rotation_sigma);
   closure.source = DetectedLoopClosure::Source::kObjects;
