@@ -20,6 +20,9 @@ echo "Robot a's own map scored against the ground truth (in its own frame: the g
 echo
 echo "== the station's frontend on the team's streams: where did two robots see the same place? =="
 "$bin" detect --dataset "$out/office-3" --quiet
+echo
+echo "== the station: frontend and backend threads, one scene graph of the team (about a minute) =="
+"$bin" run --dataset "$out/office-3" --out "$out/office-3-run" --quiet
 
 echo
 echo "== the real Hydra scene graph of the uHumans2 apartment =="
@@ -41,9 +44,11 @@ echo
 echo "Results are in $out/:"
 echo "  office-3/             the simulated dataset: dataset.json, robots/<r>/updates.dsgb, gt/"
 echo "  office-3-robot-a.json robot a's final graph (its update stream replayed)"
+echo "  office-3-run/         the station's output: graph.json, graph.spark.json, mesh.ply,"
+echo "                        metrics.json, timing.csv"
 echo "  apartment.json        our readable JSON (one node, edge or vertex per line)"
 echo "  apartment.dsgb        our compact binary"
 echo "  apartment.spark.json  Spark-DSG's JSON layout, read back by our importer"
 echo "  summary.json          counts per layer and per robot"
 echo "  csail_optimized.g2o   both CSAIL robots in robot 0's frame, outliers rejected"
-echo "Not built yet: the station's backend (alignment, optimization, merging, rooms) and its runtime (README.md)."
+echo "Not built yet: merging what several robots saw twice, baselines, ablations, trials (README.md)."

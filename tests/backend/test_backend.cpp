@@ -25,8 +25,9 @@ TEST(Backend, RoundOnTinyTeam) {
   std::vector<RobotUpdate> updates;
   for (const auto& stream : dataset.value().streams)
     updates.insert(updates.end(), stream.begin(), stream.end());
-  std::stable_sort(updates.begin(), updates.end(),
-                   [](const RobotUpdate& a, const RobotUpdate& b) { return a.time_ns < b.time_ns; });
+  std::stable_sort(updates.begin(), updates.end(), [](const RobotUpdate& a, const RobotUpdate& b) {
+    return a.time_ns < b.time_ns;
+  });
   SceneGraphProcessor processor;
   LoopClosureDetector detector;
   for (const RobotUpdate& u : updates) {
@@ -61,8 +62,8 @@ TEST(Backend, RoundOnTinyTeam) {
 
   const DatasetGroundTruth truth = readDatasetGroundTruth(dir.string()).value();
   const SceneGraphScore score = evaluateSceneGraph(backend.graph(), truth);
-  EXPECT_EQ(score.matched_keyframes, dataset.value().runs[0].truth.size() +
-                                         dataset.value().runs[1].truth.size());
+  EXPECT_EQ(score.matched_keyframes,
+            dataset.value().runs[0].truth.size() + dataset.value().runs[1].truth.size());
   EXPECT_LT(score.ate_rmse_m.value(), 0.3);
   EXPECT_GT(score.objects_found_pct.value(), 70.0);
   EXPECT_GT(score.objects_correct_pct.value(), 70.0);

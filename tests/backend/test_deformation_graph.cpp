@@ -97,7 +97,8 @@ TEST(DeformationGraph, LoopClosuresCorrectDriftAndOutliersAreRejected) {
   // The alignment is the truth of the starts (what initial alignment would estimate).
   const Eigen::Isometry3d T_global_b = a.truth.front().inverse() * b.truth.front();
   std::vector<RobotDeformationInput> inputs = {
-      {a.id, Eigen::Isometry3d::Identity(), &a.pose_graph, &a.control_points, &a.control_point_edges},
+      {a.id, Eigen::Isometry3d::Identity(), &a.pose_graph, &a.control_points,
+       &a.control_point_edges},
       {b.id, T_global_b, &b.pose_graph, &b.control_points, &b.control_point_edges}};
   // The edges here carry calibrated information (robot b's drift is in its odometry edges' noise
   // model only as far as their values go): use it rather than Kimera-PGMO's variances.

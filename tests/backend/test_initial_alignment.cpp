@@ -13,7 +13,7 @@ namespace {
 
 struct Team {
   SceneGraph frontend;
-  std::map<RobotId, Eigen::Isometry3d> T_global_robot;  // the truth
+  std::map<RobotId, Eigen::Isometry3d> T_global_robot;      // the truth
   std::map<RobotId, std::vector<Eigen::Isometry3d>> truth;  // global poses of the keyframes
 };
 
@@ -63,7 +63,8 @@ std::vector<PoseGraphEdge> closures(const Team& t, RobotId a, RobotId b, size_t 
     Vector6d xi;
     xi << noise(rng), noise(rng), noise(rng), rotation(rng), rotation(rng), rotation(rng);
     if (i >= good) {  // 4-8 m and 30-90 degrees off, in a random direction
-      const double angle = 2 * M_PI * std::abs(unit(rng)), metres = 4.0 + std::fmod(std::abs(4 * unit(rng)), 4.0);
+      const double angle = 2 * M_PI * std::abs(unit(rng)),
+                   metres = 4.0 + std::fmod(std::abs(4 * unit(rng)), 4.0);
       xi << metres * std::cos(angle), metres * std::sin(angle), 0, 0, 0,
           (unit(rng) < 0 ? -1 : 1) * (0.5 + std::fmod(std::abs(unit(rng)), 1.0));
     }
@@ -84,11 +85,13 @@ TEST(InitialAlignment, KnownTransformsDespiteOutliers) {
   ASSERT_EQ(aligned.size(), 3u);
   for (const auto& [robot, frame] : aligned) {
     // Relative to robot a's frame, the global frame of this test.
-    const Eigen::Isometry3d expected = t.T_global_robot.at(a).inverse() * t.T_global_robot.at(robot);
+    const Eigen::Isometry3d expected =
+        t.T_global_robot.at(a).inverse() * t.T_global_robot.at(robot);
     EXPECT_LT((frame.T_global_robot.translation() - expected.translation()).norm(), 0.1)
         << robot.str();
-    EXPECT_LT(Eigen::AngleAxisd(frame.T_global_robot.linear().transpose() * expected.linear()).angle(),
-              0.02);
+    EXPECT_LT(
+        Eigen::AngleAxisd(frame.T_global_robot.linear().transpose() * expected.linear()).angle(),
+        0.02);
   }
   EXPECT_GE(aligned.at(b).inliers, 10u);
 }
@@ -97,8 +100,8 @@ TEST(InitialAlignment, KnownTransformsDespiteOutliers) {
 TEST(InitialAlignment, TooFewInliersStaysUnaligned) {
   const Team t = team(2);
   InitialAlignment alignment;
-  const auto& aligned = alignment.update(t.frontend, closures(t, RobotId(0), RobotId(1), 4, 6, 3),
-                                         RobotId(0));
+  const auto& aligned =
+      alignment.update(t.frontend, closures(t, RobotId(0), RobotId(1), 4, 6, 3), RobotId(0));
   EXPECT_TRUE(alignment.isAligned(RobotId(0)));
   EXPECT_FALSE(alignment.isAligned(RobotId(1)));
   EXPECT_EQ(aligned.size(), 1u);

@@ -82,7 +82,6 @@ TEST(RoomSegmentation, EmptyAndSingleRoom) {
   EXPECT_EQ(segmentRooms(g, options).rooms.size(), 1u);
 }
 
-
 // On a simulated robot's own places (office-3 at half scale, robot a, whose frame is the global
 // frame), the rooms match the true rooms well by the paper's rooms metric (measured: 5 rooms,
 // precision 0.86, recall 0.53; recall counts the rooms the robot never entered).

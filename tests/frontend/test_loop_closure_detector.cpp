@@ -16,8 +16,9 @@ TEST(LoopClosureDetector, FindsTrueInterRobotClosuresOnTiny) {
   // Arrival order: by time, as the station's replay does.
   std::vector<RobotUpdate> updates;
   for (const auto& stream : d.streams) updates.insert(updates.end(), stream.begin(), stream.end());
-  std::stable_sort(updates.begin(), updates.end(),
-                   [](const RobotUpdate& a, const RobotUpdate& b) { return a.time_ns < b.time_ns; });
+  std::stable_sort(updates.begin(), updates.end(), [](const RobotUpdate& a, const RobotUpdate& b) {
+    return a.time_ns < b.time_ns;
+  });
   SceneGraphProcessor processor;
   LoopClosureDetector detector;
   size_t found_online = 0;

@@ -35,7 +35,8 @@ RobotUpdate step(RobotId robot, uint64_t sequence) {
   u.graph.nodes.push_back(keyframe(robot, sequence, Eigen::Vector3d(double(sequence), 0, 0)));
   u.graph.nodes.push_back(object(sequence, Eigen::Vector3d(double(sequence), 1, 0)));
   if (sequence > 0) {
-    u.graph.edges.push_back({NodeId(robot.prefix(), sequence - 1), NodeId(robot.prefix(), sequence), {}});
+    u.graph.edges.push_back(
+        {NodeId(robot.prefix(), sequence - 1), NodeId(robot.prefix(), sequence), {}});
     PoseGraphEdge odometry;
     odometry.from = NodeId(robot.prefix(), sequence - 1);
     odometry.to = NodeId(robot.prefix(), sequence);
@@ -139,7 +140,8 @@ TEST(SceneGraphProcessor, GapWaitsForSnapshot) {
   snapshot.robot = kA;
   snapshot.sequence = 6;
   snapshot.is_snapshot = true;
-  snapshot.graph.nodes = {keyframe(kA, 0, Eigen::Vector3d::Zero()), object(9, Eigen::Vector3d::Ones())};
+  snapshot.graph.nodes = {keyframe(kA, 0, Eigen::Vector3d::Zero()),
+                          object(9, Eigen::Vector3d::Ones())};
   const UpdateReport report = processor.process(snapshot);
   ASSERT_EQ(report.outcome, UpdateOutcome::kApplied) << report.message;
   EXPECT_FALSE(processor.robot(kA)->waiting_for_snapshot);
@@ -170,7 +172,9 @@ TEST(SceneGraphProcessor, CorruptUpdateInARealStream) {
   }
   const auto corruptions = std::vector<std::function<void(RobotUpdate&)>>{
       [](RobotUpdate& u) { u.graph.nodes.back().position.x() = std::nan(""); },
-      [](RobotUpdate& u) { u.graph.mesh.faces.push_back({0, 1, 99999999}); },
+      [](RobotUpdate& u) {
+        u.graph.mesh.faces.push_back({0, 1, 99999999});
+      },
       [](RobotUpdate& u) { u.graph.removed_nodes.push_back(NodeId('O', 777)); },
       [](RobotUpdate& u) { u.graph.mesh.vertex_start += 5; },
       [](RobotUpdate& u) {

@@ -85,6 +85,14 @@ struct DetectOptions {
 };
 int runDetect(const DetectOptions& options);
 
+struct RunOptions {
+  std::string dataset;
+  std::string out;
+  double speed = 0.0;  ///< 1 real time, 10 faster, 0 as fast as possible
+  bool quiet = false;
+};
+int runRun(const RunOptions& options);
+
 /// Prints "hydra-multi: error: <message>" on stderr and returns 1.
 int fail(const std::string& message);
 

@@ -32,23 +32,24 @@ int runEvaluate(const EvaluateOptions& o) {
   if (!graph) return fail(graph.error());
   const SceneGraphScore s = evaluateSceneGraph(graph.value(), truth.value());
   if (o.json) {
-    const nlohmann::ordered_json j = {{"ate_rmse_m", orNull(s.ate_rmse_m)},
-                                      {"objects_found_pct", orNull(s.objects_found_pct)},
-                                      {"objects_correct_pct", orNull(s.objects_correct_pct)},
-                                      {"object_threshold_m", s.object_threshold_m},
-                                      {"places_position_error_m", orNull(s.places_position_error_m)},
-                                      {"rooms_precision", orNull(s.rooms_precision)},
-                                      {"rooms_recall", orNull(s.rooms_recall)},
-                                      {"num_objects", s.num_objects},
-                                      {"num_places", s.num_places},
-                                      {"num_rooms", s.num_rooms}};
+    const nlohmann::ordered_json j = {
+        {"ate_rmse_m", orNull(s.ate_rmse_m)},
+        {"objects_found_pct", orNull(s.objects_found_pct)},
+        {"objects_correct_pct", orNull(s.objects_correct_pct)},
+        {"object_threshold_m", s.object_threshold_m},
+        {"places_position_error_m", orNull(s.places_position_error_m)},
+        {"rooms_precision", orNull(s.rooms_precision)},
+        {"rooms_recall", orNull(s.rooms_recall)},
+        {"num_objects", s.num_objects},
+        {"num_places", s.num_places},
+        {"num_rooms", s.num_rooms}};
     std::cout << j.dump() << "\n";
     return 0;
   }
   std::cout << o.result << " against " << o.dataset << " (global frame: robot "
             << truth.value().robots.front().str() << "'s)\n"
-            << "  ATE rmse          " << show(s.ate_rmse_m, " m") << " over "
-            << s.matched_keyframes << " keyframes\n"
+            << "  ATE rmse          " << show(s.ate_rmse_m, " m") << " over " << s.matched_keyframes
+            << " keyframes\n"
             << "  objects found     " << show(s.objects_found_pct, " %", 1) << "\n"
             << "  objects correct   " << show(s.objects_correct_pct, " %", 1) << " of "
             << s.num_objects << " (threshold " << s.object_threshold_m << " m)\n"

@@ -153,6 +153,20 @@ int main(int argc, char** argv) {
   detect_cmd->add_flag("--json", detect.json, "print exactly one JSON object on stdout");
   detect_cmd->add_flag("--quiet", detect.quiet, "no progress lines on stderr");
 
+  RunOptions run;
+  CLI::App* run_cmd = app.add_subcommand(
+      "run", "The station over a dataset: frontend and backend threads, outputs and metrics");
+  run_cmd->add_option("--dataset", run.dataset, "dataset directory (from simulate)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  run_cmd->add_option("--out", run.out, "output directory (created)")->required();
+  run_cmd
+      ->add_option("--speed", run.speed,
+                   "replay speed: 1 real time, 10 faster, 0 as fast as possible")
+      ->check(CLI::Range(0.0, 1000.0))
+      ->capture_default_str();
+  run_cmd->add_flag("--quiet", run.quiet, "no progress lines on stderr");
+
   CLI11_PARSE(app, argc, argv);
   if (*info_cmd) return runInfo(info);
   if (*convert_cmd) return runConvert(convert);
@@ -162,5 +176,6 @@ int main(int argc, char** argv) {
   if (*evaluate_cmd) return runEvaluate(evaluate);
   if (*dataset_graph_cmd) return runDatasetGraph(dataset_graph);
   if (*detect_cmd) return runDetect(detect);
+  if (*run_cmd) return runRun(run);
   return 0;
 }

@@ -69,8 +69,8 @@ int runSimulate(const SimulateOptions& o) {
             << pct(d.odometry.objects_correct_pct) << "; without drift: found "
             << pct(d.no_drift.objects_found_pct) << ", correct "
             << pct(d.no_drift.objects_correct_pct) << " (threshold " << d.object_threshold_m
-            << " m); odometry ATE " << std::setprecision(2)
-            << d.odometry.ate_rmse_m.value_or(0.0) << " m\n";
+            << " m); odometry ATE " << std::setprecision(2) << d.odometry.ate_rmse_m.value_or(0.0)
+            << " m\n";
   return 0;
 }
 

@@ -33,9 +33,7 @@ constexpr double kGaugeVariance = 1e6;
 
 }  // namespace
 
-NodeId controlPointId(RobotId robot, uint64_t index) {
-  return NodeId::station('M', robot, index);
-}
+NodeId controlPointId(RobotId robot, uint64_t index) { return NodeId::station('M', robot, index); }
 
 DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
                                        const std::vector<RobotDeformationInput>& robots,
@@ -90,7 +88,8 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
         cp_by_index[cp.id] = cp.position;
         const auto keyframe = local.find(cp.keyframe);
         if (keyframe != local.end()) {
-          dg.graph.edges.push_back(edge(cp.keyframe, id, keyframe->second.inverse() * at(cp.position),
+          dg.graph.edges.push_back(edge(cp.keyframe, id,
+                                        keyframe->second.inverse() * at(cp.position),
                                         options.mesh_variance));
         }
       }
@@ -119,7 +118,8 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
       const auto cp = near_cp.nearest(p);
       if (!cp.empty() && cp.front().distance <= options.place_link_radius) {
         dg.graph.edges.push_back(edge(cp_ids[cp.front().index], place,
-                                      at(p - cp_positions[cp.front().index]), options.mesh_variance));
+                                      at(p - cp_positions[cp.front().index]),
+                                      options.mesh_variance));
       } else {
         const size_t k = near_kf.nearest(p).front().index;
         dg.graph.edges.push_back(
@@ -173,8 +173,8 @@ void deformMesh(std::vector<MeshVertex>& vertices, const std::vector<Eigen::Isom
     const Eigen::Vector3d v = vertex.position.cast<double>();
     const auto nearest = index.nearest(v, k + 1);
     // d_max: the (k+1)-th neighbour's distance, so the k nearest all weigh more than zero.
-    const double d_max = nearest.size() > k ? nearest[k].distance
-                                            : nearest.back().distance * 1.01 + 1e-9;
+    const double d_max =
+        nearest.size() > k ? nearest[k].distance : nearest.back().distance * 1.01 + 1e-9;
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     double total = 0.0;
     for (size_t j = 0; j < nearest.size() && j < k; ++j) {

@@ -51,9 +51,9 @@ struct DeformationGraphOptions {
 NodeId controlPointId(RobotId robot, uint64_t index);
 
 struct DeformationGraph {
-  PoseGraph graph;                                ///< every node and factor
-  std::map<NodeId, Eigen::Isometry3d> initial;    ///< global frame, before optimization
-  NodeId anchor;                                  ///< the root robot's first keyframe
+  PoseGraph graph;                              ///< every node and factor
+  std::map<NodeId, Eigen::Isometry3d> initial;  ///< global frame, before optimization
+  NodeId anchor;                                ///< the root robot's first keyframe
   size_t robust_factors = 0, inter_robot_factors = 0;
 };
 
@@ -66,7 +66,7 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
                                        const DeformationGraphOptions& options = {});
 
 struct DeformationResult {
-  std::map<NodeId, Eigen::Isometry3d> poses;  ///< optimized, global frame
+  std::map<NodeId, Eigen::Isometry3d> poses;                ///< optimized, global frame
   std::map<std::pair<NodeId, NodeId>, bool> robust_inlier;  ///< per robust factor (from, to)
   RobustPgoResult solve;
 };
@@ -76,8 +76,7 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
 
 /// Moves mesh vertices (global frame, before optimization) with their k nearest control points:
 /// `initial` and `optimized` poses of the control points.
-void deformMesh(std::vector<MeshVertex>& vertices,
-                const std::vector<Eigen::Isometry3d>& initial,
+void deformMesh(std::vector<MeshVertex>& vertices, const std::vector<Eigen::Isometry3d>& initial,
                 const std::vector<Eigen::Isometry3d>& optimized, size_t k = 4);
 
 }  // namespace hydra_multi

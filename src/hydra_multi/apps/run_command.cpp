@@ -1,0 +1,140 @@
+// `hydra-multi run --dataset DIR --out OUT [--speed X]`: the station over a dataset's streams,
+// online (station/station.h), then the outputs and, read only after the run, the ground truth's
+// verdict: OUT/graph.json, graph.spark.json, mesh.ply, metrics.json, timing.csv.
+
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "hydra_multi/apps/commands.h"
+#include "hydra_multi/dsg/io/graph_file.h"
+#include "hydra_multi/eval/dataset_evaluation.h"
+#include "hydra_multi/eval/trajectory_error.h"
+#include "hydra_multi/station/station.h"
+
+namespace hydra_multi::apps {
+namespace {
+
+nlohmann::ordered_json orNull(const std::optional<double>& v) {
+  return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json(nullptr);
+}
+
+}  // namespace
+
+int runRun(const RunOptions& o) {
+  namespace fs = std::filesystem;
+  auto streams = loadDatasetStreams(o.dataset);
+  if (!streams) return fail(streams.error());
+  std::error_code ec;
+  fs::create_directories(o.out, ec);
+  if (ec) return fail("cannot create " + o.out + ": " + ec.message());
+  StationOptions options;
+  options.speed = o.speed;
+  if (!o.quiet) options.log = [](const std::string& line) { std::cerr << line << std::endl; };
+  if (!o.quiet)
+    std::cerr << "station: " << streams.value().updates.size() << " updates of "
+              << streams.value().robots.size() << " robots, speed "
+              << (o.speed > 0 ? std::to_string(o.speed) : std::string("as fast as possible"))
+              << std::endl;
+  const StationResult result = runStation(streams.value(), options);
+
+  const fs::path out(o.out);
+  for (const char* name : {"graph.json", "graph.spark.json", "mesh.ply"}) {
+    if (Status s = io::saveSceneGraph((out / name).string(), result.graph); !s)
+      return fail(s.message());
+  }
+  // timing.csv: one row per update (frontend) and per backend round.
+  std::ofstream timing(out / "timing.csv");
+  timing << "kind,index,robot,sequence,robot_time_s,ms,handoff_ms,loop_closures,nodes\n";
+  for (size_t i = 0; i < result.updates.size(); ++i) {
+    const UpdateTiming& u = result.updates[i];
+    timing << "update," << i << "," << u.robot.str() << "," << u.sequence << "," << u.time_ns * 1e-9
+           << "," << u.frontend_ms << "," << u.handoff_ms << "," << u.loop_closures << ",\n";
+  }
+  for (const RoundTiming& r : result.rounds) {
+    timing << "backend," << r.round << ",,," << r.after_update << "," << r.report.time_s * 1e3
+           << ",," << r.report.inter_robot_inliers << "," << r.report.nodes << "\n";
+  }
+  if (!timing) return fail("cannot write " + (out / "timing.csv").string());
+
+  // Evaluation, after the run: only now is the ground truth read.
+  auto truth = readDatasetGroundTruth(o.dataset);
+  if (!truth) return fail(truth.error());
+  const SceneGraphScore score = evaluateSceneGraph(result.graph, truth.value());
+  size_t inter = 0, inliers = 0, correct_inliers = 0;
+  for (const DetectedLoopClosure& c : result.loop_closures) {
+    if (!c.interRobot()) continue;
+    ++inter;
+    const auto kept = result.inter_robot_inliers.find({c.keyframe_a, c.keyframe_b});
+    if (kept == result.inter_robot_inliers.end() || !kept->second) continue;
+    ++inliers;
+    const auto stamp = [&](NodeId id) -> int64_t {
+      const Node* node = result.graph.findNode(id);
+      return node ? node->find<AgentAttributes>()->timestamp_ns : -1;
+    };
+    correct_inliers += checkLoopClosure(truth.value(), c.robot_a, stamp(c.keyframe_a), c.robot_b,
+                                        stamp(c.keyframe_b), c.T_a_b)
+                           .correct;
+  }
+  std::vector<double> frontend_ms, backend_ms;
+  for (const UpdateTiming& u : result.updates) frontend_ms.push_back(u.frontend_ms);
+  for (const RoundTiming& r : result.rounds) backend_ms.push_back(r.report.time_s * 1e3);
+  const ErrorStatistics frontend = errorStatistics(frontend_ms);
+  const ErrorStatistics backend = errorStatistics(backend_ms);
+  const nlohmann::ordered_json metrics = {
+      {"ate_rmse_m", orNull(score.ate_rmse_m)},
+      {"objects_found_pct", orNull(score.objects_found_pct)},
+      {"objects_correct_pct", orNull(score.objects_correct_pct)},
+      {"object_threshold_m", score.object_threshold_m},
+      {"places_position_error_m", orNull(score.places_position_error_m)},
+      {"rooms_precision", orNull(score.rooms_precision)},
+      {"rooms_recall", orNull(score.rooms_recall)},
+      {"num_objects", score.num_objects},
+      {"num_places", score.num_places},
+      {"num_rooms", score.num_rooms},
+      {"lc_inter_detected", inter},
+      {"lc_inter_inliers", inliers},
+      {"lc_inter_precision", inliers ? nlohmann::ordered_json(double(correct_inliers) / inliers)
+                                     : nlohmann::ordered_json(nullptr)},
+      {"robots", result.robots},
+      {"robots_aligned", result.aligned.size()},
+      {"frontend_ms_p50", frontend.median},
+      {"frontend_ms_max", frontend.max},
+      {"backend_ms_p50", backend.median},
+      {"backend_ms_max", backend.max},
+      {"backend_rounds", result.rounds.size()},
+      {"wall_s", result.wall_s}};
+  std::ofstream(out / "metrics.json") << metrics.dump(2) << "\n";
+
+  const auto show = [](const std::optional<double>& v, int precision) {
+    if (!v) return std::string("n/a");
+    std::ostringstream s;
+    s << std::fixed << std::setprecision(precision) << *v;
+    return s.str();
+  };
+  std::cout << std::fixed << std::setprecision(2) << "station over " << o.dataset << ": "
+            << result.updates.size() << " updates, " << result.rounds.size() << " backend rounds, "
+            << result.wall_s << " s\n"
+            << "  robots aligned        " << result.aligned.size() << " of " << result.robots
+            << "\n"
+            << "  inter-robot closures  " << inter << " detected, " << inliers
+            << " kept by GNC, of those " << correct_inliers << " correct\n"
+            << "  ATE                   " << show(score.ate_rmse_m, 3) << " m\n"
+            << "  objects found         " << show(score.objects_found_pct, 1) << " %\n"
+            << "  objects correct       " << show(score.objects_correct_pct, 1) << " % ("
+            << score.num_objects << " objects, threshold " << score.object_threshold_m << " m)\n"
+            << "  places error          " << show(score.places_position_error_m, 3) << " m\n"
+            << "  rooms                 " << score.num_rooms << ", precision "
+            << show(score.rooms_precision, 2) << ", recall " << show(score.rooms_recall, 2) << "\n"
+            << "  frontend per update   median " << frontend.median << " ms, max " << frontend.max
+            << " ms\n"
+            << "  backend per round     median " << backend.median / 1e3 << " s, max "
+            << backend.max / 1e3 << " s\n"
+            << "outputs in " << o.out
+            << ": graph.json, graph.spark.json, mesh.ply, metrics.json, timing.csv\n";
+  return 0;
+}
+
+}  // namespace hydra_multi::apps
