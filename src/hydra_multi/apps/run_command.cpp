@@ -100,6 +100,8 @@ int runRun(const RunOptions& o) {
                                      : nlohmann::ordered_json(nullptr)},
       {"robots", result.robots},
       {"robots_aligned", result.aligned.size()},
+      {"merges_accepted", result.rounds.empty() ? 0 : result.rounds.back().report.merges_accepted},
+      {"merges_undone", result.rounds.empty() ? 0 : result.rounds.back().report.merges_undone},
       {"frontend_ms_p50", frontend.median},
       {"frontend_ms_max", frontend.max},
       {"backend_ms_p50", backend.median},
@@ -121,6 +123,13 @@ int runRun(const RunOptions& o) {
             << "\n"
             << "  inter-robot closures  " << inter << " detected, " << inliers
             << " kept by GNC, of those " << correct_inliers << " correct\n"
+            << "  merges (last round)   "
+            << (result.rounds.empty() ? 0 : result.rounds.back().report.merges_accepted)
+            << " accepted of "
+            << (result.rounds.empty() ? 0 : result.rounds.back().report.merges_proposed)
+            << " proposed, "
+            << (result.rounds.empty() ? 0 : result.rounds.back().report.merges_undone)
+            << " undone\n"
             << "  ATE                   " << show(score.ate_rmse_m, 3) << " m\n"
             << "  objects found         " << show(score.objects_found_pct, 1) << " %\n"
             << "  objects correct       " << show(score.objects_correct_pct, 1) << " % ("

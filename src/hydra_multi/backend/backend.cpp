@@ -29,8 +29,16 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
                       robot.control_points, robot.control_point_edges});
     included.push_back(&robot);
   }
+  std::map<RobotId, Eigen::Isometry3d> T_global_robot;
+  for (const RobotDeformationInput& input : inputs)
+    T_global_robot[input.robot] = input.T_global_robot;
+  const std::vector<MergeCandidate> candidates =
+      options_.reconcile ? proposeMerges(frontend, T_global_robot, options_.reconciliation)
+                         : std::vector<MergeCandidate>();
+  const std::vector<PoseGraphEdge> merges =
+      mergeFactors(candidates, T_global_robot, options_.reconciliation);
   const DeformationGraph dg =
-      buildDeformationGraph(frontend, inputs, inter_robot, {}, options_.deformation);
+      buildDeformationGraph(frontend, inputs, inter_robot, merges, options_.deformation);
   const DeformationResult result = optimizeDeformationGraph(dg, options_.deformation);
   inliers_.clear();
   for (const PoseGraphEdge& e : inter_robot) {
@@ -127,7 +135,25 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
       graph.addOrUpdateEdge(key.first(), key.second(), info);
   }
 
-  // 4. Rooms.
+  // 4. Merges GNC kept, unless fewer than min_valid_share of the proposed ones were kept.
+  std::vector<const MergeCandidate*> kept;
+  for (const MergeCandidate& c : candidates) {
+    const auto it = result.robust_inlier.find({c.target, c.source});
+    if (it != result.robust_inlier.end() && it->second) kept.push_back(&c);
+  }
+  report.merges_proposed = candidates.size();
+  if (!candidates.empty() &&
+      double(kept.size()) >= options_.reconciliation.min_valid_share * double(candidates.size())) {
+    for (const MergeCandidate* c : kept) {
+      if (!graph.hasNode(c->target) || !graph.hasNode(c->source)) continue;
+      graph.mergeNodes(c->target, c->source);
+      ++report.merges_accepted;
+    }
+  } else {
+    report.merges_undone = kept.size();
+  }
+
+  // 5. Rooms.
   if (options_.segment_rooms) {
     const RoomSegmentation rooms = segmentRooms(graph, options_.rooms);
     applyRooms(graph, rooms);

@@ -6,14 +6,16 @@
 //   3. the backend graph: keyframes and places at their optimized poses, every robot's mesh
 //      aligned and deformed with its control points, objects moved with their mesh vertices (or
 //      with their nearest control point when they have none);
-//   4. rooms segmented over the optimized places (room_segmentation.h).
+//   4. merges: the reconciliation proposals (reconciliation.h) ride in the deformation graph as
+//      robust factors; those GNC keeps are merged, unless fewer than half of them were kept;
+//   5. rooms segmented over the optimized places (room_segmentation.h).
 // Robots not aligned yet are left out of the backend graph until they are.
-// Not yet here: reconciliation proposals and node merging (README: missing).
 
 #include <vector>
 
 #include "hydra_multi/backend/deformation_graph.h"
 #include "hydra_multi/backend/initial_alignment.h"
+#include "hydra_multi/backend/reconciliation.h"
 #include "hydra_multi/backend/room_segmentation.h"
 
 namespace hydra_multi {
@@ -31,6 +33,8 @@ struct BackendOptions {
   InitialAlignmentOptions alignment;
   DeformationGraphOptions deformation;
   RoomSegmentationOptions rooms;
+  ReconciliationOptions reconciliation;
+  bool reconcile = true;
   bool segment_rooms = true;
   size_t mesh_neighbours = 4;  ///< control points that move a mesh vertex
 };
@@ -38,6 +42,7 @@ struct BackendOptions {
 struct BackendRoundReport {
   size_t robots = 0, robots_aligned = 0;
   size_t inter_robot_loop_closures = 0, inter_robot_inliers = 0;
+  size_t merges_proposed = 0, merges_accepted = 0, merges_undone = 0;
   size_t nodes = 0, rooms = 0;
   double time_s = 0.0;
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <set>
 
 #include "hydra_multi/core/nearest_neighbors.h"
 
@@ -42,6 +43,11 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
                                        const DeformationGraphOptions& options) {
   DeformationGraph dg;
   std::vector<NodeId> first_keyframes;
+  std::set<NodeId> merged;  // objects in merge candidates become nodes too
+  for (const PoseGraphEdge& e : merges) {
+    merged.insert(e.from);
+    merged.insert(e.to);
+  }
   for (const RobotDeformationInput& input : robots) {
     const Eigen::Isometry3d& T = input.T_global_robot;
     std::map<NodeId, Eigen::Isometry3d> local;  // keyframes in the robot's frame
@@ -58,7 +64,8 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
           first_time = t;
           first = id;
         }
-      } else if (node.layer() == Layer::kPlaces) {
+      } else if (node.layer() == Layer::kPlaces ||
+                 (node.layer() == Layer::kObjects && merged.count(id))) {
         places.push_back(id);
       }
     }
@@ -103,7 +110,8 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
                                       options.mesh_variance));
       }
     }
-    // Places: linked to the nearest control point, or else the nearest keyframe.
+    // Places (and merge-candidate objects): linked to the nearest control point, or else the
+    // nearest keyframe.
     const NearestNeighbors near_cp(cp_positions);
     std::vector<Eigen::Vector3d> kf_positions;
     std::vector<NodeId> kf_ids;

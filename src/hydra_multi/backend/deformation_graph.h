@@ -1,12 +1,14 @@
 #pragma once
 // The embedded deformation graph of the whole team (paper III-B, eq. 3; Sumner 2007, Kimera-PGMO),
 // as one SE(3) pose graph solved robustly (optim/robust_pose_graph.h, GNC with TLS):
-//   nodes    every aligned robot's keyframes, mesh control points and places, initialized in the
-//            global frame through the robot's alignment (initial_alignment.h);
+//   nodes    every aligned robot's keyframes, mesh control points, places and the objects of
+//            merge candidates, initialized in the global frame through the robot's alignment
+//            (initial_alignment.h);
 //   factors  known inliers: odometry, mesh rigidity between connected control points, links from
-//            keyframes to the control points they observed, links from places to their nearest
-//            control point (or keyframe); robust: the robots' own loop closures, inter-robot loop
-//            closures and merge candidates (ReconciliationProposals), all under GNC.
+//            keyframes to the control points they observed, links from places (and objects) to
+//            their nearest control point (or keyframe); robust: the robots' own loop closures,
+//            inter-robot loop closures and merge candidates (ReconciliationProposals), all under
+//            GNC.
 // Kimera-PGMO's variances: odometry 1e-2, loop closures 5e-2, mesh 1e-2 (information = 1/variance
 // on every axis). They replace the information the robots and the detector attach to their edges
 // (use_sent_information false): a robot's odometry information describes its random noise only,

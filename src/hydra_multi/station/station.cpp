@@ -88,9 +88,10 @@ StationResult runStation(const DatasetStreams& input, const StationOptions& opti
         std::to_string(timing.report.robots) + " robots aligned, " +
         std::to_string(timing.report.inter_robot_inliers) + "/" +
         std::to_string(timing.report.inter_robot_loop_closures) +
-        " inter-robot loop closures kept, " + std::to_string(timing.report.nodes) + " nodes, " +
-        std::to_string(timing.report.rooms) + " rooms, " + std::to_string(timing.report.time_s) +
-        " s");
+        " inter-robot loop closures kept, " + std::to_string(timing.report.merges_accepted) + "/" +
+        std::to_string(timing.report.merges_proposed) + " merges, " +
+        std::to_string(timing.report.nodes) + " nodes, " + std::to_string(timing.report.rooms) +
+        " rooms, " + std::to_string(timing.report.time_s) + " s");
   };
   std::thread backend_thread([&] {
     for (;;) {
