@@ -10,6 +10,7 @@
 #include "hydra_multi/eval/dataset_evaluation.h"
 #include "hydra_multi/frontend/loop_closure_detector.h"
 #include "hydra_multi/sim/dataset.h"
+#include "hydra_multi/station/station.h"
 
 namespace hydra_multi {
 namespace {
@@ -35,17 +36,7 @@ TEST(Backend, RoundOnTinyTeam) {
     detector.update(processor, report.new_keyframes);
   }
   detector.flush(processor);
-  std::vector<PoseGraphEdge> inter;
-  for (const DetectedLoopClosure& c : detector.loopClosures()) {
-    if (!c.interRobot()) continue;
-    PoseGraphEdge e;
-    e.from = c.keyframe_a;
-    e.to = c.keyframe_b;
-    e.T_from_to = c.T_a_b;
-    e.information = c.information;
-    e.kind = PoseGraphEdge::Kind::kLoopClosure;
-    inter.push_back(e);
-  }
+  const std::vector<PoseGraphEdge> inter = interRobotEdges(detector.loopClosures());
   std::vector<BackendRobot> robots;
   for (const RobotId r : processor.robots()) {
     const RobotFrontendState* s = processor.robot(r);

@@ -6,15 +6,12 @@
 #include <nlohmann/json.hpp>
 
 #include "hydra_multi/apps/commands.h"
+#include "hydra_multi/apps/score_json.h"
 #include "hydra_multi/dsg/io/graph_file.h"
 #include "hydra_multi/eval/dataset_evaluation.h"
 
 namespace hydra_multi::apps {
 namespace {
-
-nlohmann::ordered_json orNull(const std::optional<double>& v) {
-  return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json(nullptr);
-}
 
 std::string show(const std::optional<double>& v, const char* unit, int precision = 3) {
   if (!v) return "n/a";
@@ -32,17 +29,7 @@ int runEvaluate(const EvaluateOptions& o) {
   if (!graph) return fail(graph.error());
   const SceneGraphScore s = evaluateSceneGraph(graph.value(), truth.value());
   if (o.json) {
-    const nlohmann::ordered_json j = {
-        {"ate_rmse_m", orNull(s.ate_rmse_m)},
-        {"objects_found_pct", orNull(s.objects_found_pct)},
-        {"objects_correct_pct", orNull(s.objects_correct_pct)},
-        {"object_threshold_m", s.object_threshold_m},
-        {"places_position_error_m", orNull(s.places_position_error_m)},
-        {"rooms_precision", orNull(s.rooms_precision)},
-        {"rooms_recall", orNull(s.rooms_recall)},
-        {"num_objects", s.num_objects},
-        {"num_places", s.num_places},
-        {"num_rooms", s.num_rooms}};
+    const nlohmann::ordered_json j = scoreJson(s);
     std::cout << j.dump() << "\n";
     return 0;
   }

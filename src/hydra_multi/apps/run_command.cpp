@@ -9,20 +9,13 @@
 #include <nlohmann/json.hpp>
 
 #include "hydra_multi/apps/commands.h"
+#include "hydra_multi/apps/score_json.h"
 #include "hydra_multi/dsg/io/graph_file.h"
 #include "hydra_multi/eval/dataset_evaluation.h"
 #include "hydra_multi/eval/trajectory_error.h"
 #include "hydra_multi/station/station.h"
 
 namespace hydra_multi::apps {
-namespace {
-
-nlohmann::ordered_json orNull(const std::optional<double>& v) {
-  return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json(nullptr);
-}
-
-}  // namespace
-
 int runRun(const RunOptions& o) {
   namespace fs = std::filesystem;
   auto streams = loadDatasetStreams(o.dataset);
@@ -83,17 +76,8 @@ int runRun(const RunOptions& o) {
   for (const RoundTiming& r : result.rounds) backend_ms.push_back(r.report.time_s * 1e3);
   const ErrorStatistics frontend = errorStatistics(frontend_ms);
   const ErrorStatistics backend = errorStatistics(backend_ms);
-  const nlohmann::ordered_json metrics = {
-      {"ate_rmse_m", orNull(score.ate_rmse_m)},
-      {"objects_found_pct", orNull(score.objects_found_pct)},
-      {"objects_correct_pct", orNull(score.objects_correct_pct)},
-      {"object_threshold_m", score.object_threshold_m},
-      {"places_position_error_m", orNull(score.places_position_error_m)},
-      {"rooms_precision", orNull(score.rooms_precision)},
-      {"rooms_recall", orNull(score.rooms_recall)},
-      {"num_objects", score.num_objects},
-      {"num_places", score.num_places},
-      {"num_rooms", score.num_rooms},
+  nlohmann::ordered_json metrics = scoreJson(score);
+  const nlohmann::ordered_json extra = {
       {"lc_inter_detected", inter},
       {"lc_inter_inliers", inliers},
       {"lc_inter_precision", inliers ? nlohmann::ordered_json(double(correct_inliers) / inliers)
@@ -108,6 +92,7 @@ int runRun(const RunOptions& o) {
       {"backend_ms_max", backend.max},
       {"backend_rounds", result.rounds.size()},
       {"wall_s", result.wall_s}};
+  metrics.update(extra);
   std::ofstream(out / "metrics.json") << metrics.dump(2) << "\n";
 
   const auto show = [](const std::optional<double>& v, int precision) {
