@@ -15,15 +15,13 @@ Eigen::Isometry3d at(const Eigen::Vector3d& p) {
   return T;
 }
 
-Matrix6d isotropic(double variance) { return Matrix6d::Identity() / variance; }
-
 PoseGraphEdge edge(NodeId from, NodeId to, const Eigen::Isometry3d& T_from_to, double variance,
                    PoseGraphEdge::Kind kind = PoseGraphEdge::Kind::kOdometry) {
   PoseGraphEdge e;
   e.from = from;
   e.to = to;
   e.T_from_to = T_from_to;
-  e.information = isotropic(variance);
+  e.information = informationFromVariances(variance, variance);
   e.kind = kind;
   return e;
 }
@@ -75,9 +73,11 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
       for (PoseGraphEdge e : *input.pose_graph) {
         if (!local.count(e.from) || !local.count(e.to)) continue;
         const bool closure = e.kind == PoseGraphEdge::Kind::kLoopClosure;
-        if (!options.use_sent_information)
-          e.information =
-              isotropic(closure ? options.loop_closure_variance : options.odometry_variance);
+        if (!options.use_sent_information) {
+          const double variance =
+              closure ? options.loop_closure_variance : options.odometry_variance;
+          e.information = informationFromVariances(variance, variance);
+        }
         dg.graph.edges.push_back(e);
         if (closure) ++dg.robust_factors;
       }
@@ -147,7 +147,8 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
       if (!dg.initial.count(e.from) || !dg.initial.count(e.to)) continue;
       e.kind = PoseGraphEdge::Kind::kLoopClosure;
       if (!options.use_sent_information && list == &inter_robot)
-        e.information = isotropic(options.loop_closure_variance);
+        e.information =
+            informationFromVariances(options.loop_closure_variance, options.loop_closure_variance);
       dg.graph.edges.push_back(e);
       ++dg.robust_factors;
       if (list == &inter_robot) ++dg.inter_robot_factors;

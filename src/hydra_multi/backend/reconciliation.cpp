@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <set>
+#include <tuple>
+
+#include "hydra_multi/core/nearest_neighbors.h"
 
 namespace hydra_multi {
 namespace {
@@ -17,12 +20,16 @@ struct Item {
 template <typename Match>
 std::vector<MergeCandidate> pairUp(const std::vector<Item>& items, Layer layer, double reach,
                                    Match match) {
+  std::vector<Eigen::Vector3d> positions;
+  for (const Item& item : items) positions.push_back(item.position);
+  const NearestNeighbors index(positions);
   std::vector<std::tuple<double, size_t, size_t>> pairs;
   for (size_t i = 0; i < items.size(); ++i) {
-    for (size_t j = i + 1; j < items.size(); ++j) {
-      if (items[i].robot == items[j].robot) continue;
+    for (const auto& near : index.withinRadius(items[i].position, reach)) {
+      const size_t j = near.index;
+      if (j <= i || items[i].robot == items[j].robot) continue;
       const double d = (items[i].position - items[j].position).norm();
-      if (d <= reach && match(items[i], items[j])) pairs.emplace_back(d, i, j);
+      if (match(items[i], items[j])) pairs.emplace_back(d, i, j);
     }
   }
   std::sort(pairs.begin(), pairs.end());
@@ -94,7 +101,7 @@ std::vector<PoseGraphEdge> mergeFactors(const std::vector<MergeCandidate>& candi
     e.T_from_to = Eigen::Isometry3d::Identity();
     e.T_from_to.linear() =
         T_global_robot.at(*ra).linear().transpose() * T_global_robot.at(*rb).linear();
-    e.information = Matrix6d::Identity() / options.merge_variance;
+    e.information = informationFromVariances(options.merge_variance, options.merge_variance);
     factors.push_back(e);
   }
   return factors;

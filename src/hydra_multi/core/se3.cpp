@@ -122,4 +122,11 @@ std::optional<Similarity3> umeyamaAlignment(const Eigen::Matrix3Xd& src,
   return result;
 }
 
+Matrix6d informationFromVariances(double translation_variance, double rotation_variance) {
+  Matrix6d information = Matrix6d::Zero();
+  information.diagonal() << Eigen::Vector3d::Constant(1.0 / translation_variance),
+      Eigen::Vector3d::Constant(1.0 / rotation_variance);
+  return information;
+}
+
 }  // namespace hydra_multi

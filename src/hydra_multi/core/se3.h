@@ -21,6 +21,10 @@ namespace hydra_multi {
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
+/// The information matrix (inverse covariance) of independent noise of these variances on each
+/// translation axis and each rotation axis, in the [rho; phi] order (translation first).
+Matrix6d informationFromVariances(double translation_variance, double rotation_variance);
+
 /// The skew-symmetric matrix with hat(w) * v = w x v.
 Eigen::Matrix3d hat(const Eigen::Vector3d& w);
 

@@ -1,16 +1,10 @@
 #include "hydra_multi/frontend/loop_closure_detector.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace hydra_multi {
 namespace {
-
-Matrix6d information(double translation_sigma, double rotation_sigma) {
-  Matrix6d info = Matrix6d::Zero();
-  info.diagonal() << Eigen::Vector3d::Constant(1.0 / (translation_sigma * translation_sigma)),
-      Eigen::Vector3d::Constant(1.0 / (rotation_sigma * rotation_sigma));
-  return info;
-}
 
 constexpr size_t kMaxObjectPairs = 200;
 constexpr size_t kMaxPairsPerWord = 4;
@@ -146,8 +140,8 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::verifyObjects(
   closure.keyframe_b = query.d.keyframe;
   closure.T_a_b = nodePose(graph.getNode(candidate.d.keyframe)).inverse() * T_candidate_query *
                   nodePose(graph.getNode(query.d.keyframe));
-  closure.information =
-      information(options_.object_translation_sigma, options_.object_rotation_sigma);
+  closure.information = informationFromVariances(std::pow(options_.object_translation_sigma, 2),
+                                                 std::pow(options_.object_rotation_sigma, 2));
   closure.source = DetectedLoopClosure::Source::kObjects;
   closure.inliers = registration.value().inliers.size();
   return closure;
@@ -183,8 +177,8 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::verifyVisual(
   closure.keyframe_a = candidate.d.keyframe;
   closure.keyframe_b = query.d.keyframe;
   closure.T_a_b = registration.value().T_target_source;  // query body -> candidate body
-  closure.information =
-      information(options_.visual_translation_sigma, options_.visual_rotation_sigma);
+  closure.information = informationFromVariances(std::pow(options_.visual_translation_sigma, 2),
+                                                 std::pow(options_.visual_rotation_sigma, 2));
   closure.source = DetectedLoopClosure::Source::kVisual;
   closure.inliers = registration.value().inliers.size();
   return closure;

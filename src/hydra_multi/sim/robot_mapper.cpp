@@ -61,13 +61,6 @@ namespace {
 
 constexpr int64_t kUnseen = -1;
 
-Matrix6d diagonalInformation(double translation_variance, double rotation_variance) {
-  Matrix6d information = Matrix6d::Zero();
-  information.diagonal() << Eigen::Vector3d::Constant(1.0 / translation_variance),
-      Eigen::Vector3d::Constant(1.0 / rotation_variance);
-  return information;
-}
-
 // The places of a whole run with the keyframe that first sees each (places.h, per floor).
 struct TimedPlaces {
   struct Place {
@@ -188,7 +181,7 @@ class RobotMapper {
       edge.T_from_to = c.T_from_to;
       const double rot = options_.loop_closure_rotation_sigma_deg * M_PI / 180.0;
       edge.information =
-          diagonalInformation(std::pow(options_.loop_closure_translation_sigma, 2), rot * rot);
+          informationFromVariances(std::pow(options_.loop_closure_translation_sigma, 2), rot * rot);
       pending_.pose_graph.push_back(edge);
     }
   }
@@ -215,7 +208,7 @@ class RobotMapper {
     const OdometryNoise& n = run_.odometry_noise;
     const double yaw = std::max(n.yaw_sigma, n.roll_pitch_sigma);
     odometry.information =
-        diagonalInformation(n.translation_sigma * n.translation_sigma * s, yaw * yaw * s);
+        informationFromVariances(n.translation_sigma * n.translation_sigma * s, yaw * yaw * s);
     pending_.pose_graph.push_back(odometry);
   }
 
