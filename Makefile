@@ -9,7 +9,7 @@ DATA ?= ../shared/data
 
 CMAKE_FLAGS = -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DHYDRA_MULTI_WERROR=$(WERROR)
 
-.PHONY: all deps build test test-sanitize demo bench bench-robust bench-sim bench-frontend format clean
+.PHONY: all deps build test test-sanitize demo bench bench-robust bench-sim bench-frontend bench-backend format clean
 
 all: build
 
@@ -52,6 +52,11 @@ bench-sim: build
 SEED ?= 1
 bench-frontend: build
 	@./scripts/bench_frontend.sh $(BUILD_DIR)/hydra-multi out/bench-frontend $(SEED)
+
+# One backend round on the final state of a dataset, stage by stage (DATASET=DIR, CONFIG=FILE).
+DATASET ?= out/demo/office-3
+bench-backend: build
+	@$(BUILD_DIR)/bench/bench_backend $(DATASET) $(if $(CONFIG),--config $(CONFIG))
 
 demo: build
 	@./scripts/demo.sh $(BUILD_DIR)/hydra-multi $(DATA) $(DEMO_OUT)

@@ -15,55 +15,152 @@
 namespace hydra_multi {
 namespace {
 
-TEST(Backend, RoundOnTinyTeam) {
-  namespace fs = std::filesystem;
-  const fs::path dir =
-      fs::temp_directory_path() / ("hydra_multi_test_backend_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  auto dataset = sim::simulateDataset(sim::presetConfig("tiny", 1).value());
-  ASSERT_TRUE(dataset.ok());
-  ASSERT_TRUE(sim::writeDataset(dataset.value(), dir.string()).ok());
-  std::vector<RobotUpdate> updates;
-  for (const auto& stream : dataset.value().streams)
-    updates.insert(updates.end(), stream.begin(), stream.end());
-  std::stable_sort(updates.begin(), updates.end(), [](const RobotUpdate& a, const RobotUpdate& b) {
-    return a.time_ns < b.time_ns;
-  });
-  SceneGraphProcessor processor;
-  LoopClosureDetector detector;
-  for (const RobotUpdate& u : updates) {
-    const UpdateReport report = processor.process(u);
-    detector.update(processor, report.new_keyframes);
+// The tiny team's frontend state, built once: processor, detector, inter-robot loop closures.
+class TinyTeam : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    namespace fs = std::filesystem;
+    dir_ = new fs::path(fs::temp_directory_path() /
+                        ("hydra_multi_test_backend_" + std::to_string(getpid())));
+    fs::remove_all(*dir_);
+    dataset_ = new sim::SimulatedDataset(
+        sim::simulateDataset(sim::presetConfig("tiny", 1).value()).value());
+    ASSERT_TRUE(sim::writeDataset(*dataset_, dir_->string()).ok());
+    std::vector<RobotUpdate> updates;
+    for (const auto& stream : dataset_->streams)
+      updates.insert(updates.end(), stream.begin(), stream.end());
+    std::stable_sort(
+        updates.begin(), updates.end(),
+        [](const RobotUpdate& a, const RobotUpdate& b) { return a.time_ns < b.time_ns; });
+    processor_ = new SceneGraphProcessor();
+    LoopClosureDetector detector;
+    for (const RobotUpdate& u : updates) {
+      const UpdateReport report = processor_->process(u);
+      detector.update(*processor_, report.new_keyframes);
+    }
+    detector.flush(*processor_);
+    inter_ = new std::vector<PoseGraphEdge>(interRobotEdges(detector.loopClosures()));
+    truth_ = new DatasetGroundTruth(readDatasetGroundTruth(dir_->string()).value());
   }
-  detector.flush(processor);
-  const std::vector<PoseGraphEdge> inter = interRobotEdges(detector.loopClosures());
-  std::vector<BackendRobot> robots;
-  for (const RobotId r : processor.robots()) {
-    const RobotFrontendState* s = processor.robot(r);
-    robots.push_back({r, &s->pose_graph, &s->control_points, &s->control_point_edges, &s->mesh});
+  static void TearDownTestSuite() {
+    std::filesystem::remove_all(*dir_);
+    delete dir_;
+    delete dataset_;
+    delete processor_;
+    delete inter_;
+    delete truth_;
   }
-  BackendOptions options;
-  options.rooms.min_room_places = 5;  // tiny's rooms hold about 15 places each
-  Backend backend(options);
-  const BackendRoundReport report = backend.round(processor.graph(), robots, inter, RobotId(0));
+
+  static std::vector<BackendRobot> robots() {
+    std::vector<BackendRobot> robots;
+    for (const RobotId r : processor_->robots()) {
+      const RobotFrontendState* s = processor_->robot(r);
+      robots.push_back({r, &s->pose_graph, &s->control_points, &s->control_point_edges, &s->mesh});
+    }
+    return robots;
+  }
+  static BackendOptions options() {
+    BackendOptions options;
+    options.rooms.min_room_places = 5;  // tiny's rooms hold about 15 places each
+    return options;
+  }
+
+  static std::filesystem::path* dir_;
+  static sim::SimulatedDataset* dataset_;
+  static SceneGraphProcessor* processor_;
+  static std::vector<PoseGraphEdge>* inter_;
+  static DatasetGroundTruth* truth_;
+};
+std::filesystem::path* TinyTeam::dir_ = nullptr;
+sim::SimulatedDataset* TinyTeam::dataset_ = nullptr;
+SceneGraphProcessor* TinyTeam::processor_ = nullptr;
+std::vector<PoseGraphEdge>* TinyTeam::inter_ = nullptr;
+DatasetGroundTruth* TinyTeam::truth_ = nullptr;
+
+TEST_F(TinyTeam, FullRound) {
+  Backend backend(options());
+  const BackendRoundReport report =
+      backend.round(processor_->graph(), robots(), *inter_, RobotId(0));
   EXPECT_EQ(report.robots_aligned, 2u);
-  EXPECT_GT(report.inter_robot_inliers, inter.size() / 2);
+  EXPECT_GT(report.inter_robot_inliers, inter_->size() / 2);
   EXPECT_GE(report.rooms, 1u);
   // The robots saw the same rooms: places and objects of both are merged.
   EXPECT_GT(report.merges_proposed, 10u);
   EXPECT_GT(report.merges_accepted, report.merges_proposed / 2);
   EXPECT_EQ(report.merges_undone, 0u);
   EXPECT_GT(backend.graph().mesh().vertices.size(), 5000u);
+  EXPECT_GT(report.factors, report.variables);
 
-  const DatasetGroundTruth truth = readDatasetGroundTruth(dir.string()).value();
-  const SceneGraphScore score = evaluateSceneGraph(backend.graph(), truth);
+  const SceneGraphScore score = evaluateSceneGraph(backend.graph(), *truth_);
   EXPECT_EQ(score.matched_keyframes,
-            dataset.value().runs[0].truth.size() + dataset.value().runs[1].truth.size());
+            dataset_->runs[0].truth.size() + dataset_->runs[1].truth.size());
   EXPECT_LT(score.ate_rmse_m.value(), 0.3);
   EXPECT_GT(score.objects_found_pct.value(), 70.0);
   EXPECT_GT(score.objects_correct_pct.value(), 70.0);
   EXPECT_GT(score.rooms_precision.value(), 0.2);
-  fs::remove_all(dir);
+}
+
+// GNC over the whole graph in one stage finds the same loop closures as GNC on the skeleton.
+TEST_F(TinyTeam, OneStageAgreesWithTwoStages) {
+  BackendOptions one = options();
+  one.deformation.two_stage = false;
+  Backend a(options()), b(one);
+  const BackendRoundReport two_stages = a.round(processor_->graph(), robots(), *inter_, RobotId(0));
+  const BackendRoundReport one_stage = b.round(processor_->graph(), robots(), *inter_, RobotId(0));
+  EXPECT_EQ(two_stages.inter_robot_inliers, one_stage.inter_robot_inliers);
+  EXPECT_EQ(one_stage.whole_graph_s, 0.0);
+  EXPECT_LT(evaluateSceneGraph(b.graph(), *truth_).ate_rmse_m.value(), 0.3);
+}
+
+// Ablation no-rec: no merges proposed; the rest as in the full round.
+TEST_F(TinyTeam, WithoutReconciliation) {
+  BackendOptions o = options();
+  o.reconcile = false;
+  Backend backend(o);
+  const BackendRoundReport report =
+      backend.round(processor_->graph(), robots(), *inter_, RobotId(0));
+  EXPECT_EQ(report.merges_proposed, 0u);
+  EXPECT_EQ(report.merges_accepted, 0u);
+  EXPECT_EQ(report.robots_aligned, 2u);
+  EXPECT_GT(report.inter_robot_inliers, inter_->size() / 2);
+}
+
+// Ablation no-ia: every robot's frame is the global one; the robots are not where they belong.
+TEST_F(TinyTeam, WithoutInitialAlignment) {
+  BackendOptions o = options();
+  o.initial_alignment = false;
+  Backend backend(o);
+  const BackendRoundReport report =
+      backend.round(processor_->graph(), robots(), *inter_, RobotId(0));
+  EXPECT_EQ(report.robots_aligned, 2u);
+  for (const auto& [robot, frame] : backend.aligned())
+    EXPECT_TRUE(frame.T_global_robot.isApprox(Eigen::Isometry3d::Identity()));
+  EXPECT_FALSE(backend.alignment().isAligned(RobotId(1)));
+}
+
+// Baselines: no joint optimization (no inter-robot factors kept, no merges); frames either
+// estimated (hm-align) or given (gt-align).
+TEST_F(TinyTeam, BaselinesWithoutJointOptimization) {
+  BackendOptions hm = options();
+  hm.joint_optimization = false;
+  Backend estimated(hm);
+  const BackendRoundReport report =
+      estimated.round(processor_->graph(), robots(), *inter_, RobotId(0));
+  EXPECT_EQ(report.robots_aligned, 2u);
+  EXPECT_EQ(report.inter_robot_inliers, 0u);
+  EXPECT_EQ(report.merges_proposed, 0u);
+  EXPECT_LT(evaluateSceneGraph(estimated.graph(), *truth_).ate_rmse_m.value(), 1.0);
+
+  BackendOptions gt = hm;
+  const Eigen::Isometry3d T_a_world = truth_->start_poses.at(RobotId(0)).inverse();
+  for (const auto& [robot, T_world_start] : truth_->start_poses)
+    gt.given_alignment[robot] = T_a_world * T_world_start;
+  Backend given(gt);
+  given.round(processor_->graph(), robots(), *inter_, RobotId(0));
+  ASSERT_EQ(given.aligned().size(), 2u);
+  EXPECT_TRUE(
+      given.aligned().at(RobotId(1)).T_global_robot.isApprox(gt.given_alignment.at(RobotId(1))));
+  EXPECT_LT(evaluateSceneGraph(given.graph(), *truth_).ate_rmse_m.value(), 1.0);
 }
 
 }  // namespace

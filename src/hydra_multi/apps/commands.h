@@ -32,11 +32,11 @@ struct PgoOptions {
   uint64_t seed = 0;
   std::string inliers_xml;   ///< labels: 1-based edge numbers of the inlier loop closures
   std::string inlier_edges;  ///< labels: a g2o file whose edges are the true loop closures
-  size_t min_inliers = 5;  ///< k: inliers a robot pair needs to be aligned
+  size_t min_inliers = 5;    ///< k: inliers a robot pair needs to be aligned
   std::string linear_solver = "auto";  ///< auto | cholesky | cg (for the GNC solves)
   int gnc_inner_iterations = 3;        ///< LM iterations per GNC solve (0: up to 100)
-  std::string groundtruth;  ///< g2o/TORO file with the true poses (or edges to chain)
-  std::string output;       ///< optimized graph as g2o
+  std::string groundtruth;             ///< g2o/TORO file with the true poses (or edges to chain)
+  std::string output;                  ///< optimized graph as g2o
   bool json = false;
   bool skip_bad_lines = false;
   double tolerance = 1e-4;  ///< relative cost change that ends a solve
@@ -88,7 +88,10 @@ int runDetect(const DetectOptions& options);
 struct RunOptions {
   std::string dataset;
   std::string out;
-  double speed = 0.0;  ///< 1 real time, 10 faster, 0 as fast as possible
+  double speed = 0.0;             ///< 1 real time, 10 faster, 0 as fast as possible
+  std::string ablation = "full";  ///< full | no-ia | no-rec
+  std::string baseline;           ///< "" | gt-align | hm-align | oracle-lc (evaluation only)
+  std::string config;             ///< station configuration file (JSON)
   bool quiet = false;
 };
 int runRun(const RunOptions& options);

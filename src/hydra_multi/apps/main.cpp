@@ -165,6 +165,21 @@ int main(int argc, char** argv) {
                    "replay speed: 1 real time, 10 faster, 0 as fast as possible")
       ->check(CLI::Range(0.0, 1000.0))
       ->capture_default_str();
+  run_cmd
+      ->add_option("--ablation", run.ablation,
+                   "full: the whole system; no-ia: without initial alignment; no-rec: without "
+                   "reconciliation (merges)")
+      ->check(CLI::IsMember({"full", "no-ia", "no-rec"}))
+      ->capture_default_str();
+  run_cmd
+      ->add_option("--baseline", run.baseline,
+                   "instead of the full system (evaluation only, they read ground truth or skip "
+                   "steps): gt-align: single-robot graphs placed by the true start poses; "
+                   "hm-align: single-robot graphs placed by our initial alignment; oracle-lc: the "
+                   "full system fed only the correct inter-robot loop closures")
+      ->check(CLI::IsMember({"gt-align", "hm-align", "oracle-lc"}));
+  run_cmd->add_option("--config", run.config, "station configuration (JSON; README lists the keys)")
+      ->check(CLI::ExistingFile);
   run_cmd->add_flag("--quiet", run.quiet, "no progress lines on stderr");
 
   CLI11_PARSE(app, argc, argv);

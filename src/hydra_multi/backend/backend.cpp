@@ -11,13 +11,32 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
                                   const std::vector<BackendRobot>& robots,
                                   const std::vector<PoseGraphEdge>& inter_robot, RobotId root) {
   const auto start = std::chrono::steady_clock::now();
+  auto lap_start = start;
+  const auto lap = [&lap_start] {
+    const auto now = std::chrono::steady_clock::now();
+    const double s = std::chrono::duration<double>(now - lap_start).count();
+    lap_start = now;
+    return s;
+  };
   BackendRoundReport report;
   report.robots = robots.size();
   report.inter_robot_loop_closures = inter_robot.size();
 
-  // 1. Alignment.
-  const auto& aligned = alignment_.update(frontend, inter_robot, root, optimized_first_keyframes_);
+  // 1. Alignment: estimated, or given, or (ablation) none.
+  if (!options_.given_alignment.empty()) {
+    for (const BackendRobot& robot : robots) {
+      const auto given = options_.given_alignment.find(robot.robot);
+      if (given != options_.given_alignment.end())
+        aligned_[robot.robot].T_global_robot = given->second;
+    }
+  } else if (!options_.initial_alignment) {
+    for (const BackendRobot& robot : robots) aligned_[robot.robot];
+  } else {
+    aligned_ = alignment_.update(frontend, inter_robot, root, optimized_first_keyframes_);
+  }
+  const auto& aligned = aligned_;
   report.robots_aligned = aligned.size();
+  report.alignment_s = lap();
 
   // 2. Deformation graph of the aligned robots.
   std::vector<RobotDeformationInput> inputs;
@@ -32,14 +51,21 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   std::map<RobotId, Eigen::Isometry3d> T_global_robot;
   for (const RobotDeformationInput& input : inputs)
     T_global_robot[input.robot] = input.T_global_robot;
+  const bool joint = options_.joint_optimization;
   const std::vector<MergeCandidate> candidates =
-      options_.reconcile ? proposeMerges(frontend, T_global_robot, options_.reconciliation)
-                         : std::vector<MergeCandidate>();
+      options_.reconcile && joint ? proposeMerges(frontend, T_global_robot, options_.reconciliation)
+                                  : std::vector<MergeCandidate>();
   const std::vector<PoseGraphEdge> merges =
       mergeFactors(candidates, T_global_robot, options_.reconciliation);
   const DeformationGraph dg =
-      buildDeformationGraph(frontend, inputs, inter_robot, merges, options_.deformation);
+      buildDeformationGraph(frontend, inputs, joint ? inter_robot : std::vector<PoseGraphEdge>(),
+                            merges, options_.deformation);
+  report.variables = dg.initial.size();
+  report.factors = dg.graph.edges.size();
+  report.build_s = lap();
   const DeformationResult result = optimizeDeformationGraph(dg, options_.deformation);
+  report.whole_graph_s = result.whole_graph_s;
+  report.gnc_s = lap() - result.whole_graph_s;
   inliers_.clear();
   for (const PoseGraphEdge& e : inter_robot) {
     const auto it = result.robust_inlier.find({e.from, e.to});
@@ -153,12 +179,15 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     report.merges_undone = kept.size();
   }
 
+  report.graph_s = lap();
+
   // 5. Rooms.
   if (options_.segment_rooms) {
     const RoomSegmentation rooms = segmentRooms(graph, options_.rooms);
     applyRooms(graph, rooms);
     report.rooms = rooms.rooms.size();
   }
+  report.rooms_s = lap();
   graph_ = std::move(graph);
   report.nodes = graph_.numNodes();
   report.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -36,6 +36,15 @@ struct BackendOptions {
   ReconciliationOptions reconciliation;
   bool reconcile = true;
   bool segment_rooms = true;
+  /// false (ablation no-ia): no initial alignment; every robot's own frame is taken as the
+  /// global one and the deformation graph starts from there.
+  bool initial_alignment = true;
+  /// false (the paper's baselines): no joint optimization; each robot's graph is optimized alone
+  /// with its own loop closures and placed by its alignment; no merges.
+  bool joint_optimization = true;
+  /// Frames given from outside instead of estimated, T_global_robot (the gt-align baseline,
+  /// evaluation only: the normal station never has them).
+  std::map<RobotId, Eigen::Isometry3d> given_alignment;
   size_t mesh_neighbours = 4;  ///< control points that move a mesh vertex
 };
 
@@ -44,7 +53,13 @@ struct BackendRoundReport {
   size_t inter_robot_loop_closures = 0, inter_robot_inliers = 0;
   size_t merges_proposed = 0, merges_accepted = 0, merges_undone = 0;
   size_t nodes = 0, rooms = 0;
+  size_t variables = 0, factors = 0;  ///< poses and factors of the deformation graph
   double time_s = 0.0;
+  /// Where the time went: alignment, proposals and graph assembly, the GNC solve, the solve of
+  /// the whole deformation graph after it, the backend graph (mesh deformation, objects, merges),
+  /// rooms.
+  double alignment_s = 0.0, build_s = 0.0, gnc_s = 0.0, whole_graph_s = 0.0, graph_s = 0.0,
+         rooms_s = 0.0;
 };
 
 class Backend {
@@ -56,12 +71,15 @@ class Backend {
 
   const SceneGraph& graph() const { return graph_; }
   const InitialAlignment& alignment() const { return alignment_; }
+  /// The robots in the last round's backend graph and their frames.
+  const std::map<RobotId, RobotFrameAlignment>& aligned() const { return aligned_; }
   /// Per inter-robot loop closure (from, to) of the last round: kept by GNC.
   const std::map<std::pair<NodeId, NodeId>, bool>& loopClosureInliers() const { return inliers_; }
 
  private:
   BackendOptions options_;
   InitialAlignment alignment_;
+  std::map<RobotId, RobotFrameAlignment> aligned_;
   SceneGraph graph_;
   std::map<RobotId, Eigen::Isometry3d> optimized_first_keyframes_;
   std::map<std::pair<NodeId, NodeId>, bool> inliers_;

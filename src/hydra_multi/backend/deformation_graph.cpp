@@ -1,6 +1,7 @@
 #include "hydra_multi/backend/deformation_graph.h"
 
 #include <algorithm>
+#include <chrono>
 #include <limits>
 #include <set>
 
@@ -42,6 +43,7 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
   DeformationGraph dg;
   std::vector<NodeId> first_keyframes;
   std::set<NodeId> merged;  // objects in merge candidates become nodes too
+  std::set<NodeId> control_points;
   for (const PoseGraphEdge& e : merges) {
     merged.insert(e.from);
     merged.insert(e.to);
@@ -79,6 +81,14 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
           e.information = informationFromVariances(variance, variance);
         }
         dg.graph.edges.push_back(e);
+        if (!closure) {
+          // The skeleton's odometry: rotations as stiff as the lattice holds them.
+          e.information.block<3, 3>(0, 3).setZero();
+          e.information.block<3, 3>(3, 0).setZero();
+          e.information.block<3, 3>(3, 3) =
+              Eigen::Matrix3d::Identity() / options.skeleton_rotation_variance;
+        }
+        dg.skeleton.edges.push_back(e);
         if (closure) ++dg.robust_factors;
       }
     }
@@ -90,11 +100,13 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
       for (const ControlPoint& cp : *input.control_points) {
         const NodeId id = controlPointId(input.robot, cp.id);
         dg.initial[id] = T * at(cp.position);
+        control_points.insert(id);
         cp_positions.push_back(cp.position);
         cp_ids.push_back(id);
         cp_by_index[cp.id] = cp.position;
         const auto keyframe = local.find(cp.keyframe);
         if (keyframe != local.end()) {
+          dg.observed_by[id] = cp.keyframe;
           dg.graph.edges.push_back(edge(cp.keyframe, id,
                                         keyframe->second.inverse() * at(cp.position),
                                         options.mesh_variance));
@@ -123,15 +135,17 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
     for (const NodeId place : places) {
       const Eigen::Vector3d p = frontend.getNode(place).position;
       dg.initial[place] = T * at(p);
+      const size_t k = near_kf.nearest(p).front().index;
+      const PoseGraphEdge to_keyframe =
+          edge(kf_ids[k], place, local[kf_ids[k]].inverse() * at(p), options.mesh_variance);
+      dg.skeleton.edges.push_back(to_keyframe);
       const auto cp = near_cp.nearest(p);
       if (!cp.empty() && cp.front().distance <= options.place_link_radius) {
         dg.graph.edges.push_back(edge(cp_ids[cp.front().index], place,
                                       at(p - cp_positions[cp.front().index]),
                                       options.mesh_variance));
       } else {
-        const size_t k = near_kf.nearest(p).front().index;
-        dg.graph.edges.push_back(
-            edge(kf_ids[k], place, local[kf_ids[k]].inverse() * at(p), options.mesh_variance));
+        dg.graph.edges.push_back(to_keyframe);
       }
     }
   }
@@ -141,6 +155,7 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
     dg.graph.edges.push_back(edge(dg.anchor, first_keyframes[r],
                                   dg.initial[dg.anchor].inverse() * dg.initial[first_keyframes[r]],
                                   kGaugeVariance));
+    dg.skeleton.edges.push_back(dg.graph.edges.back());
   }
   for (const auto* list : {&inter_robot, &merges}) {
     for (PoseGraphEdge e : *list) {
@@ -150,11 +165,15 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
         e.information =
             informationFromVariances(options.loop_closure_variance, options.loop_closure_variance);
       dg.graph.edges.push_back(e);
+      dg.skeleton.edges.push_back(e);
       ++dg.robust_factors;
       if (list == &inter_robot) ++dg.inter_robot_factors;
     }
   }
   dg.graph.poses = dg.initial;
+  for (const auto& [id, pose] : dg.initial) {
+    if (!control_points.count(id)) dg.skeleton.poses[id] = pose;
+  }
   return dg;
 }
 
@@ -162,13 +181,48 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
                                            const DeformationGraphOptions& options) {
   DeformationResult result;
   if (graph.initial.empty()) return result;
-  result.solve = optimizePoseGraph(graph.graph, graph.initial, graph.anchor, options.solver);
+  const PoseGraph& robust = options.two_stage ? graph.skeleton : graph.graph;
+  result.solve = optimizePoseGraph(robust, robust.poses, graph.anchor, options.solver);
   result.poses = result.solve.poses;
-  for (size_t i = 0; i < graph.graph.edges.size(); ++i) {
-    const PoseGraphEdge& e = graph.graph.edges[i];
+  for (size_t i = 0; i < robust.edges.size(); ++i) {
+    const PoseGraphEdge& e = robust.edges[i];
     if (e.kind == PoseGraphEdge::Kind::kLoopClosure && i < result.solve.edge_inlier.size())
       result.robust_inlier[{e.from, e.to}] = result.solve.edge_inlier[i];
   }
+  if (!options.two_stage) return result;
+
+  // The whole graph with the robust factors GNC kept, from the skeleton's solution: control
+  // points start where the keyframe that observed them moved them.
+  const auto start = std::chrono::steady_clock::now();
+  PoseGraph whole;
+  for (PoseGraphEdge e : graph.graph.edges) {
+    if (e.kind == PoseGraphEdge::Kind::kLoopClosure) {
+      const auto kept = result.robust_inlier.find({e.from, e.to});
+      if (kept == result.robust_inlier.end() || !kept->second) continue;
+    }
+    whole.edges.push_back(e);
+  }
+  std::map<NodeId, Eigen::Isometry3d> initial = result.poses;
+  for (const auto& [id, pose] : graph.initial) {
+    if (initial.count(id)) continue;
+    const auto keyframe = graph.observed_by.find(id);
+    const auto moved = keyframe == graph.observed_by.end() ? result.poses.end()
+                                                           : result.poses.find(keyframe->second);
+    initial[id] = moved == result.poses.end()
+                      ? pose
+                      : moved->second * graph.initial.at(keyframe->second).inverse() * pose;
+  }
+  result.poses = initial;
+  if (options.final_iterations == 0) return result;
+  RobustPgoOptions plain = options.solver;
+  plain.robust = false;
+  plain.progress = nullptr;
+  plain.solver.max_iterations = options.final_iterations;
+  plain.solver.linear_solver = PoseGraphOptimizerOptions::LinearSolver::kSparseCholesky;
+  const RobustPgoResult solved = optimizePoseGraph(whole, initial, graph.anchor, plain);
+  if (solved.usable) result.poses = solved.poses;
+  result.whole_graph_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 

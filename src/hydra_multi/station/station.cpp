@@ -24,11 +24,19 @@ struct Snapshot {
 };
 
 Snapshot takeSnapshot(const SceneGraphProcessor& processor, const LoopClosureDetector& detector,
-                      size_t after_update) {
+                      size_t after_update, const StationOptions& options) {
   Snapshot s;
   s.graph = processor.graph();
   for (const RobotId r : processor.robots()) s.robots[r] = *processor.robot(r);
-  s.inter_robot = interRobotEdges(detector.loopClosures());
+  if (options.loop_closure_filter) {
+    std::vector<DetectedLoopClosure> kept;
+    for (const DetectedLoopClosure& c : detector.loopClosures()) {
+      if (options.loop_closure_filter(c, s.graph)) kept.push_back(c);
+    }
+    s.inter_robot = interRobotEdges(kept);
+  } else {
+    s.inter_robot = interRobotEdges(detector.loopClosures());
+  }
   s.after_update = after_update;
   return s;
 }
@@ -138,7 +146,7 @@ StationResult runStation(const DatasetStreams& input, const StationOptions& opti
     }
     if (idle && news > 0) {
       const Clock::time_point t1 = Clock::now();
-      Snapshot s = takeSnapshot(processor, detector, i + 1);
+      Snapshot s = takeSnapshot(processor, detector, i + 1, options);
       {
         std::lock_guard<std::mutex> lock(mutex);
         pending = std::move(s);
@@ -156,7 +164,7 @@ StationResult runStation(const DatasetStreams& input, const StationOptions& opti
   // The last round runs on the final state, after whatever round is running now.
   {
     std::unique_lock<std::mutex> lock(mutex);
-    pending = takeSnapshot(processor, detector, input.updates.size());
+    pending = takeSnapshot(processor, detector, input.updates.size(), options);
   }
   wake.notify_one();
   {
@@ -169,7 +177,7 @@ StationResult runStation(const DatasetStreams& input, const StationOptions& opti
   result.graph = backend.graph();
   result.loop_closures = detector.loopClosures();
   result.inter_robot_inliers = backend.loopClosureInliers();
-  result.aligned = backend.alignment().aligned();
+  result.aligned = backend.aligned();
   result.counts = processor.counts();
   result.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
   return result;

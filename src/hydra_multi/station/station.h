@@ -24,6 +24,9 @@ struct StationOptions {
   LoopClosureOptions detector;
   BackendOptions backend;
   std::function<void(const std::string&)> log;  ///< progress and warnings
+  /// Evaluation only (the oracle-lc yardstick): the inter-robot loop closures the backend may
+  /// see; the frontend's graph gives the keyframes' stamps. Empty: all of them.
+  std::function<bool(const DetectedLoopClosure&, const SceneGraph&)> loop_closure_filter;
 };
 
 struct UpdateTiming {

@@ -1,0 +1,168 @@
+#include "hydra_multi/station/station_config.h"
+
+#include <fstream>
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace hydra_multi {
+namespace {
+
+using Json = nlohmann::json;
+// Sets one option from a JSON value; returns an error text (what was expected) or "".
+using Setter = std::function<std::string(const Json&, StationOptions&)>;
+
+Setter number(std::function<void(StationOptions&, double)> set, double min, bool exclusive) {
+  return [set, min, exclusive](const Json& v, StationOptions& o) -> std::string {
+    if (!v.is_number()) return "expected a number";
+    const double x = v.get<double>();
+    if (!std::isfinite(x) || (exclusive ? x <= min : x < min))
+      return std::string("expected a number ") + (exclusive ? "> " : ">= ") + Json(min).dump();
+    set(o, x);
+    return "";
+  };
+}
+
+Setter count(std::function<void(StationOptions&, int)> set, int min) {
+  return [set, min](const Json& v, StationOptions& o) -> std::string {
+    if (!v.is_number_integer() || v.get<int64_t>() < min || v.get<int64_t>() > 1000000)
+      return "expected an integer >= " + std::to_string(min);
+    set(o, static_cast<int>(v.get<int64_t>()));
+    return "";
+  };
+}
+
+Setter flag(std::function<void(StationOptions&, bool)> set) {
+  return [set](const Json& v, StationOptions& o) -> std::string {
+    if (!v.is_boolean()) return "expected true or false";
+    set(o, v.get<bool>());
+    return "";
+  };
+}
+
+const std::map<std::string, std::map<std::string, Setter>>& setters() {
+  static const std::map<std::string, std::map<std::string, Setter>> table = {
+      {"alignment",
+       {{"min_inliers",
+         count([](StationOptions& o, int n) { o.backend.alignment.alignment.min_inliers = n; }, 1)},
+        {"sigma_translation_m", number(
+                                    [](StationOptions& o, double s) {
+                                      auto& info =
+                                          o.backend.alignment.alignment.averaging.information;
+                                      for (int i = 0; i < 3; ++i) info(i, i) = 1.0 / (s * s);
+                                    },
+                                    0.0, true)},
+        {"sigma_rotation_rad", number(
+                                   [](StationOptions& o, double s) {
+                                     auto& info =
+                                         o.backend.alignment.alignment.averaging.information;
+                                     for (int i = 3; i < 6; ++i) info(i, i) = 1.0 / (s * s);
+                                   },
+                                   0.0, true)},
+        {"realign_threshold_m",
+         number([](StationOptions& o, double x) { o.backend.alignment.realign_threshold_m = x; },
+                0.0, true)}}},
+      {"deformation",
+       {{"odometry_variance",
+         number([](StationOptions& o, double x) { o.backend.deformation.odometry_variance = x; },
+                0.0, true)},
+        {"skeleton_rotation_variance",
+         number([](StationOptions& o,
+                   double x) { o.backend.deformation.skeleton_rotation_variance = x; },
+                0.0, true)},
+        {"loop_closure_variance",
+         number(
+             [](StationOptions& o, double x) { o.backend.deformation.loop_closure_variance = x; },
+             0.0, true)},
+        {"mesh_variance",
+         number([](StationOptions& o, double x) { o.backend.deformation.mesh_variance = x; }, 0.0,
+                true)},
+        {"two_stage", flag([](StationOptions& o, bool b) { o.backend.deformation.two_stage = b; })},
+        {"final_iterations",
+         count([](StationOptions& o, int n) { o.backend.deformation.final_iterations = n; }, 0)},
+        {"gnc_mu_step",
+         number([](StationOptions& o, double x) { o.backend.deformation.solver.gnc.mu_step = x; },
+                1.0, true)},
+        {"gnc_inlier_probability", number(
+                                       [](StationOptions& o, double x) {
+                                         o.backend.deformation.solver.gnc.inlier_probability =
+                                             std::min(x, 1.0 - 1e-12);
+                                       },
+                                       0.0, true)},
+        {"gnc_inner_iterations",
+         count([](StationOptions& o,
+                  int n) { o.backend.deformation.solver.gnc_inner_iterations = n; },
+               0)}}},
+      {"reconciliation",
+       {{"enabled", flag([](StationOptions& o, bool b) { o.backend.reconcile = b; })},
+        {"place_max_distance",
+         number(
+             [](StationOptions& o, double x) { o.backend.reconciliation.place_max_distance = x; },
+             0.0, false)},
+        {"place_max_radius_difference",
+         number([](StationOptions& o,
+                   double x) { o.backend.reconciliation.place_max_radius_difference = x; },
+                0.0, false)},
+        {"min_valid_share",
+         number([](StationOptions& o, double x) { o.backend.reconciliation.min_valid_share = x; },
+                0.0, false)},
+        {"merge_variance",
+         number([](StationOptions& o, double x) { o.backend.reconciliation.merge_variance = x; },
+                0.0, true)}}},
+      {"rooms",
+       {{"enabled", flag([](StationOptions& o, bool b) { o.backend.segment_rooms = b; })},
+        {"thresholds", count([](StationOptions& o, int n) { o.backend.rooms.thresholds = n; }, 1)},
+        {"min_threshold",
+         number([](StationOptions& o, double x) { o.backend.rooms.min_threshold = x; }, 0.0, true)},
+        {"max_threshold",
+         number([](StationOptions& o, double x) { o.backend.rooms.max_threshold = x; }, 0.0, true)},
+        {"min_room_places",
+         count([](StationOptions& o, int n) { o.backend.rooms.min_room_places = n; }, 1)}}}};
+  return table;
+}
+
+}  // namespace
+
+Status applyStationConfig(const std::string& text, const std::string& where,
+                          StationOptions& options) {
+  const Json config = Json::parse(text, nullptr, false);
+  if (config.is_discarded()) return Error{where + ": not valid JSON"};
+  if (!config.is_object()) return Error{where + ": expected a JSON object of sections"};
+  StationOptions updated = options;
+  for (const auto& [section, values] : config.items()) {
+    const auto known = setters().find(section);
+    if (known == setters().end()) {
+      std::string names;
+      for (const auto& [name, unused] : setters()) names += (names.empty() ? "" : ", ") + name;
+      return Error{where + ": unknown section \"" + section + "\" (known: " + names + ")"};
+    }
+    if (!values.is_object()) return Error{where + ": " + section + ": expected an object"};
+    for (const auto& [key, value] : values.items()) {
+      const auto setter = known->second.find(key);
+      if (setter == known->second.end()) {
+        std::string names;
+        for (const auto& [name, unused] : known->second)
+          names += (names.empty() ? "" : ", ") + name;
+        return Error{where + ": unknown key " + section + "." + key + " (known: " + names + ")"};
+      }
+      const std::string problem = setter->second(value, updated);
+      if (!problem.empty())
+        return Error{where + ": " + section + "." + key + ": " + problem + ", got " + value.dump()};
+    }
+  }
+  if (updated.backend.rooms.min_threshold > updated.backend.rooms.max_threshold)
+    return Error{where + ": rooms.min_threshold is above rooms.max_threshold"};
+  options = std::move(updated);
+  return Status::Ok();
+}
+
+Status loadStationConfig(const std::string& path, StationOptions& options) {
+  std::ifstream in(path);
+  if (!in) return Error{"cannot read the configuration " + path};
+  std::ostringstream text;
+  text << in.rdbuf();
+  return applyStationConfig(text.str(), path, options);
+}
+
+}  // namespace hydra_multi

@@ -1,0 +1,35 @@
+#pragma once
+// The station's configuration file (`hydra-multi run --config FILE`): a JSON object whose sections
+// set the backend's parameters over the defaults of DESIGN.md. Every key is optional; an unknown
+// key, a wrong type or a value out of range is an error that names the file and the key.
+//
+//   {
+//     "alignment":      {"min_inliers": 5, "sigma_translation_m": 0.5, "sigma_rotation_rad": 0.05,
+//                        "realign_threshold_m": 10.0},
+//     "deformation":    {"odometry_variance": 0.01, "loop_closure_variance": 0.05,
+//                        "mesh_variance": 0.01, "two_stage": true, "final_iterations": 10,
+//                        "gnc_mu_step": 1.4, "gnc_inlier_probability": 0.99,
+//                        "gnc_inner_iterations": 3},
+//     "reconciliation": {"enabled": true, "place_max_distance": 0.4,
+//                        "place_max_radius_difference": 0.3, "min_valid_share": 0.5,
+//                        "merge_variance": 0.05},
+//     "rooms":          {"enabled": true, "thresholds": 12, "min_threshold": 0.43,
+//                        "max_threshold": 1.2, "min_room_places": 10}
+//   }
+
+#include <string>
+
+#include "hydra_multi/core/result.h"
+#include "hydra_multi/station/station.h"
+
+namespace hydra_multi {
+
+/// Applies the configuration in `text` (JSON) to `options`; `where` names its source in errors.
+/// On error `options` is unchanged.
+Status applyStationConfig(const std::string& text, const std::string& where,
+                          StationOptions& options);
+
+/// Reads FILE and applies it to `options` (applyStationConfig).
+Status loadStationConfig(const std::string& path, StationOptions& options);
+
+}  // namespace hydra_multi

@@ -1,0 +1,66 @@
+// The station configuration file: keys land in the options; unknown keys, wrong types, bad
+// values and broken JSON are errors that name the problem and leave the options unchanged.
+
+#include <gtest/gtest.h>
+
+#include "hydra_multi/station/station_config.h"
+
+namespace hydra_multi {
+namespace {
+
+TEST(StationConfig, KeysSetOptions) {
+  StationOptions options;
+  const Status s = applyStationConfig(R"({
+      "alignment": {"min_inliers": 7, "sigma_translation_m": 0.25, "realign_threshold_m": 4},
+      "deformation": {"two_stage": false, "final_iterations": 0, "mesh_variance": 0.001,
+                      "gnc_mu_step": 2.0},
+      "reconciliation": {"enabled": false, "place_max_distance": 0.6},
+      "rooms": {"enabled": false, "min_room_places": 4}})",
+                                      "test.json", options);
+  ASSERT_TRUE(s.ok()) << s.message();
+  EXPECT_EQ(options.backend.alignment.alignment.min_inliers, 7u);
+  EXPECT_DOUBLE_EQ(options.backend.alignment.alignment.averaging.information(0, 0), 16.0);
+  EXPECT_DOUBLE_EQ(options.backend.alignment.alignment.averaging.information(3, 3), 400.0);
+  EXPECT_DOUBLE_EQ(options.backend.alignment.realign_threshold_m, 4.0);
+  EXPECT_FALSE(options.backend.deformation.two_stage);
+  EXPECT_EQ(options.backend.deformation.final_iterations, 0);
+  EXPECT_DOUBLE_EQ(options.backend.deformation.mesh_variance, 0.001);
+  EXPECT_DOUBLE_EQ(options.backend.deformation.solver.gnc.mu_step, 2.0);
+  EXPECT_FALSE(options.backend.reconcile);
+  EXPECT_DOUBLE_EQ(options.backend.reconciliation.place_max_distance, 0.6);
+  EXPECT_FALSE(options.backend.segment_rooms);
+  EXPECT_EQ(options.backend.rooms.min_room_places, 4u);
+}
+
+TEST(StationConfig, ErrorsNameTheProblemAndChangeNothing) {
+  const struct {
+    const char* text;
+    const char* says;
+  } cases[] = {
+      {"{", "not valid JSON"},
+      {"[1, 2]", "expected a JSON object"},
+      {R"({"backend": {}})", "unknown section \"backend\""},
+      {R"({"rooms": 3})", "rooms: expected an object"},
+      {R"({"rooms": {"min_places": 3}})", "unknown key rooms.min_places"},
+      {R"({"deformation": {"mesh_variance": -1}})",
+       "deformation.mesh_variance: expected a number > 0"},
+      {R"({"deformation": {"two_stage": 1}})", "deformation.two_stage: expected true or false"},
+      {R"({"alignment": {"min_inliers": 2.5}})", "alignment.min_inliers: expected an integer"},
+      {R"({"rooms": {"min_threshold": 2.0, "max_threshold": 1.0}})", "min_threshold is above"},
+      {R"({"reconciliation": {"enabled": false}, "rooms": {"thresholds": "12"}})",
+       "rooms.thresholds"},
+  };
+  for (const auto& c : cases) {
+    StationOptions options;
+    const Status s = applyStationConfig(c.text, "bad.json", options);
+    ASSERT_FALSE(s.ok()) << c.text;
+    EXPECT_NE(s.message().find("bad.json: "), std::string::npos) << s.message();
+    EXPECT_NE(s.message().find(c.says), std::string::npos) << s.message();
+    EXPECT_TRUE(options.backend.reconcile) << c.text;  // unchanged, even by earlier keys
+  }
+  StationOptions options;
+  EXPECT_FALSE(loadStationConfig("/nonexistent/config.json", options).ok());
+}
+
+}  // namespace
+}  // namespace hydra_multi
