@@ -93,8 +93,22 @@ struct RunOptions {
   std::string baseline;           ///< "" | gt-align | hm-align | oracle-lc (evaluation only)
   std::string config;             ///< station configuration file (JSON)
   bool quiet = false;
+  bool print_summary = true;  ///< the summary on stdout
 };
 int runRun(const RunOptions& options);
+
+struct TrialsOptions {
+  std::string preset = "office-3";
+  uint64_t first_seed = 1, last_seed = 5;
+  std::string out;
+  std::vector<std::string> methods = {"full", "gt-align", "hm-align", "no-rec", "no-ia"};
+  double speed = 0.0;
+  bool redo = false;  ///< run again where a run's metrics.json exists
+  std::string config;
+};
+int runTrials(const TrialsOptions& options);
+/// The methods `trials` knows: full, the ablations and the baselines of `run`.
+const std::vector<std::string>& trialMethods();
 
 /// Prints "hydra-multi: error: <message>" on stderr and returns 1.
 int fail(const std::string& message);

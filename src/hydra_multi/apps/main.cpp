@@ -182,7 +182,46 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   run_cmd->add_flag("--quiet", run.quiet, "no progress lines on stderr");
 
+  TrialsOptions trials;
+  std::string seeds = "1-5";
+  CLI::App* trials_cmd = app.add_subcommand(
+      "trials", "The paper's evaluation: every method on every seed of a preset, table and plots");
+  trials_cmd->add_option("--preset", trials.preset, "simulated preset (see simulate)")->required();
+  trials_cmd->add_option("--seeds", seeds, "seeds A-B (or one seed)")->capture_default_str();
+  trials_cmd->add_option("--out", trials.out, "output directory (created; runs are reused)")
+      ->required();
+  trials_cmd
+      ->add_option("--methods", trials.methods,
+                   "comma-separated: full, gt-align, hm-align, no-rec, no-ia, oracle-lc")
+      ->delimiter(',')
+      ->check(CLI::IsMember(trialMethods()))
+      ->capture_default_str();
+  trials_cmd->add_option("--speed", trials.speed, "replay speed of every run (0: fastest)")
+      ->check(CLI::Range(0.0, 1000.0))
+      ->capture_default_str();
+  trials_cmd->add_option("--config", trials.config, "station configuration for every run")
+      ->check(CLI::ExistingFile);
+  trials_cmd->add_flag("--redo", trials.redo, "run again where a run's metrics.json exists");
+
   CLI11_PARSE(app, argc, argv);
+  if (*trials_cmd) {
+    // --seeds: "A-B" or "A".
+    const size_t dash = seeds.find('-');
+    try {
+      size_t used = 0;
+      trials.first_seed = std::stoull(seeds.substr(0, dash), &used);
+      if (used != (dash == std::string::npos ? seeds.size() : dash))
+        throw std::invalid_argument("");
+      trials.last_seed = trials.first_seed;
+      if (dash != std::string::npos) {
+        trials.last_seed = std::stoull(seeds.substr(dash + 1), &used);
+        if (used != seeds.size() - dash - 1) throw std::invalid_argument("");
+      }
+    } catch (const std::exception&) {
+      return fail("--seeds: expected A-B or one seed, got \"" + seeds + "\"");
+    }
+    return runTrials(trials);
+  }
   if (*info_cmd) return runInfo(info);
   if (*convert_cmd) return runConvert(convert);
   if (*pgo_cmd) return runPgo(pgo);

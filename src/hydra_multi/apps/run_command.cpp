@@ -83,15 +83,17 @@ int runRun(const RunOptions& o) {
   }
   // timing.csv: one row per update (frontend) and per backend round.
   std::ofstream timing(out / "timing.csv");
-  timing << "kind,index,robot,sequence,robot_time_s,ms,handoff_ms,loop_closures,nodes\n";
+  timing << "kind,index,robot,sequence,robot_time_s,ms,handoff_ms,loop_closures,nodes,poses,"
+            "factors\n";
   for (size_t i = 0; i < result.updates.size(); ++i) {
     const UpdateTiming& u = result.updates[i];
     timing << "update," << i << "," << u.robot.str() << "," << u.sequence << "," << u.time_ns * 1e-9
-           << "," << u.frontend_ms << "," << u.handoff_ms << "," << u.loop_closures << ",\n";
+           << "," << u.frontend_ms << "," << u.handoff_ms << "," << u.loop_closures << ",,,\n";
   }
   for (const RoundTiming& r : result.rounds) {
     timing << "backend," << r.round << ",,," << r.after_update << "," << r.report.time_s * 1e3
-           << ",," << r.report.inter_robot_inliers << "," << r.report.nodes << "\n";
+           << ",," << r.report.inter_robot_inliers << "," << r.report.nodes << ","
+           << r.report.variables << "," << r.report.factors << "\n";
   }
   if (!timing) return fail("cannot write " + (out / "timing.csv").string());
 
@@ -145,6 +147,7 @@ int runRun(const RunOptions& o) {
     s << std::fixed << std::setprecision(precision) << *v;
     return s.str();
   };
+  if (!o.print_summary) return 0;
   std::cout << std::fixed << std::setprecision(2) << "station over " << o.dataset << ": "
             << result.updates.size() << " updates, " << result.rounds.size() << " backend rounds, "
             << result.wall_s << " s\n"

@@ -52,9 +52,13 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   for (const RobotDeformationInput& input : inputs)
     T_global_robot[input.robot] = input.T_global_robot;
   const bool joint = options_.joint_optimization;
+  std::map<RobotId, const Mesh*> meshes;
+  for (const BackendRobot* robot : included) meshes[robot->robot] = robot->mesh;
   const std::vector<MergeCandidate> candidates =
-      options_.reconcile && joint ? proposeMerges(frontend, T_global_robot, options_.reconciliation)
-                                  : std::vector<MergeCandidate>();
+      options_.reconcile && joint
+          ? refineObjectMerges(proposeMerges(frontend, T_global_robot, options_.reconciliation),
+                               frontend, T_global_robot, meshes, options_.reconciliation)
+          : std::vector<MergeCandidate>();
   const std::vector<PoseGraphEdge> merges =
       mergeFactors(candidates, T_global_robot, options_.reconciliation);
   const DeformationGraph dg =

@@ -64,7 +64,12 @@ struct BackendRoundReport {
 
 class Backend {
  public:
-  explicit Backend(BackendOptions options = {}) : options_(std::move(options)) {}
+  explicit Backend(BackendOptions options = {})
+      : options_(std::move(options)), alignment_([this] {
+          InitialAlignmentOptions a = options_.alignment;
+          a.always_realign = a.always_realign || !options_.joint_optimization;
+          return a;
+        }()) {}
 
   BackendRoundReport round(const SceneGraph& frontend, const std::vector<BackendRobot>& robots,
                            const std::vector<PoseGraphEdge>& inter_robot, RobotId root);

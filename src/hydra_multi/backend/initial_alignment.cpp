@@ -38,7 +38,7 @@ const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
     const RobotId robot = robots[i];
     if (!result.T_world_robot[i]) continue;
     auto known = aligned_.find(robot);
-    if (known != aligned_.end()) {
+    if (known != aligned_.end() && !options_.always_realign) {
       // Keep an alignment unless the optimized result moved the robot's start far from it.
       ++known->second.rounds_aligned;
       const auto optimized = optimized_first_keyframes.find(robot);

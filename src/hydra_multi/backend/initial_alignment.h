@@ -28,6 +28,9 @@ struct InitialAlignmentOptions {
     return options;
   }();
   double realign_threshold_m = 10.0;
+  /// Take every round's estimate (no optimized result to check it against: the baselines
+  /// without joint optimization).
+  bool always_realign = false;
 };
 
 struct RobotFrameAlignment {

@@ -5,6 +5,7 @@
 #include <tuple>
 
 #include "hydra_multi/core/nearest_neighbors.h"
+#include "hydra_multi/registration/icp.h"
 
 namespace hydra_multi {
 namespace {
@@ -42,7 +43,7 @@ std::vector<MergeCandidate> pairUp(const std::vector<Item>& items, Layer layer, 
     // The robot with the lower index keeps its node.
     const bool i_first = items[i].robot < items[j].robot;
     candidates.push_back(
-        {i_first ? items[i].id : items[j].id, i_first ? items[j].id : items[i].id, layer});
+        {i_first ? items[i].id : items[j].id, i_first ? items[j].id : items[i].id, layer, {}});
   }
   return candidates;
 }
@@ -87,6 +88,51 @@ std::vector<MergeCandidate> proposeMerges(
   return candidates;
 }
 
+std::vector<MergeCandidate> refineObjectMerges(
+    std::vector<MergeCandidate> candidates, const SceneGraph& frontend,
+    const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
+    const std::map<RobotId, const Mesh*>& meshes, const ReconciliationOptions& options) {
+  if (!options.object_icp) return candidates;
+  // An object's vertices and its node pose as the deformation graph starts it, global frame.
+  const auto object = [&](NodeId id, std::vector<Eigen::Vector3d>& points,
+                          Eigen::Isometry3d& pose) {
+    const Node* node = frontend.findNode(id);
+    const auto robot = id.sourceRobot();
+    if (!node || !robot || !T_global_robot.count(*robot)) return false;
+    const Eigen::Isometry3d& T = T_global_robot.at(*robot);
+    pose = T;
+    pose.translation() = T * node->position;
+    const auto mesh = meshes.find(*robot);
+    const ObjectAttributes* attributes = node->find<ObjectAttributes>();
+    if (mesh == meshes.end() || mesh->second == nullptr || attributes == nullptr) return true;
+    for (const uint64_t v : attributes->mesh_vertices) {
+      if (v < mesh->second->vertices.size())
+        points.push_back(T * mesh->second->vertices[v].position.cast<double>());
+    }
+    return true;
+  };
+  std::vector<MergeCandidate> kept;
+  for (MergeCandidate& c : candidates) {
+    std::vector<Eigen::Vector3d> target, source;
+    Eigen::Isometry3d X_target, X_source;
+    if (c.layer != Layer::kObjects || !object(c.target, target, X_target) ||
+        !object(c.source, source, X_source) || target.size() < options.icp_min_vertices ||
+        source.size() < options.icp_min_vertices) {
+      kept.push_back(std::move(c));
+      continue;
+    }
+    const auto fit = icp(source, target);
+    if (!fit ||
+        double(fit.value().inliers.size()) < options.icp_min_paired_share * double(source.size()) ||
+        fit.value().rmse > options.icp_max_rmse_m ||
+        fit.value().T_target_source.translation().norm() > options.icp_max_shift_m)
+      continue;
+    c.T_target_source = X_target.inverse() * fit.value().T_target_source * X_source;
+    kept.push_back(std::move(c));
+  }
+  return kept;
+}
+
 std::vector<PoseGraphEdge> mergeFactors(const std::vector<MergeCandidate>& candidates,
                                         const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
                                         const ReconciliationOptions& options) {
@@ -101,6 +147,7 @@ std::vector<PoseGraphEdge> mergeFactors(const std::vector<MergeCandidate>& candi
     e.T_from_to = Eigen::Isometry3d::Identity();
     e.T_from_to.linear() =
         T_global_robot.at(*ra).linear().transpose() * T_global_robot.at(*rb).linear();
+    if (c.T_target_source) e.T_from_to = *c.T_target_source;
     e.information = informationFromVariances(options.merge_variance, options.merge_variance);
     factors.push_back(e);
   }

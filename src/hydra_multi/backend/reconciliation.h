@@ -6,16 +6,22 @@
 //            most, nearest first;
 //   objects  the same label and overlapping bounding boxes (either box holds the other's
 //            centre; Hydra's test), nearest first.
-// Each candidate becomes a robust factor of the deformation graph (deformation_graph.h) that says
-// the two nodes are at one position (their rotations as aligned). After the solve,
+// Object candidates are then checked by ICP of the source object's mesh vertices onto the
+// target's (refineObjectMerges, registration/icp.h): a pair whose surfaces do not fit (too few
+// vertices paired, too large an error, too large a shift) is dropped; for the others ICP's
+// transform gives the merge factor's measurement. Each candidate becomes a robust factor of the
+// deformation graph (deformation_graph.h): the relative pose ICP found, or for places (and objects
+// without vertices) the two nodes at one position, their rotations as aligned. After the solve,
 // NodeReconciliation merges the candidates GNC kept, unless fewer than min_valid_share of the
 // proposed ones were kept: then none of this round's merges is made (the paper's undo). The backend
 // graph is rebuilt every round, so a merge is taken back whenever a later round no longer supports
 // it.
 
 #include <map>
+#include <optional>
 #include <vector>
 
+#include "hydra_multi/dsg/mesh.h"
 #include "hydra_multi/dsg/robot_update.h"
 #include "hydra_multi/dsg/scene_graph.h"
 
@@ -26,11 +32,21 @@ struct ReconciliationOptions {
   double place_max_radius_difference = 0.3;
   double min_valid_share = 0.5;
   double merge_variance = 5e-2;  ///< of the merge factors (as loop closures)
+  /// ICP of object candidates: kept when at least this share of the source's vertices pair
+  /// with the target's within the correspondence distance, with at most this error and shift.
+  bool object_icp = true;
+  double icp_min_paired_share = 0.5;
+  double icp_max_rmse_m = 0.2;
+  double icp_max_shift_m = 1.0;
+  size_t icp_min_vertices = 8;  ///< fewer on either side: no ICP, the plain factor
 };
 
 struct MergeCandidate {
   NodeId target, source;  ///< the source merges into the target
   Layer layer = Layer::kPlaces;
+  /// From ICP: the factor's measurement T_target_source (node poses as the deformation graph
+  /// initializes them); absent: the plain one.
+  std::optional<Eigen::Isometry3d> T_target_source;
 };
 
 /// Candidates among the places and objects of the aligned robots (`T_global_robot`) of
@@ -39,7 +55,15 @@ std::vector<MergeCandidate> proposeMerges(
     const SceneGraph& frontend, const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
     const ReconciliationOptions& options = {});
 
-/// The merge factors: between-factors of zero translation, with the rotation the alignment gives.
+/// Checks the object candidates by ICP on their mesh vertices (`meshes`: each robot's, in its own
+/// frame); drops those that do not fit and gives the others their measurement. Places pass.
+std::vector<MergeCandidate> refineObjectMerges(
+    std::vector<MergeCandidate> candidates, const SceneGraph& frontend,
+    const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
+    const std::map<RobotId, const Mesh*>& meshes, const ReconciliationOptions& options = {});
+
+/// The merge factors: ICP's measurement where there is one, else zero translation with the
+/// rotation the alignment gives.
 std::vector<PoseGraphEdge> mergeFactors(const std::vector<MergeCandidate>& candidates,
                                         const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
                                         const ReconciliationOptions& options = {});

@@ -1,0 +1,183 @@
+// `hydra-multi trials --preset NAME --seeds A-B --out DIR [--methods LIST]`: the paper's
+// evaluation in one command. For every seed it simulates the preset (DIR/datasets/NAME-SEED,
+// reused when it exists), runs every method on it (DIR/runs/METHOD/seed-SEED, `run`'s outputs,
+// reused when metrics.json exists unless --redo), then writes
+//   DIR/table.md          Table I (full system and baselines) and Table II (ablations) in form:
+//                         mean +- std over the seeds;
+//   DIR/objects.svg       objects found and correct per method (Fig. 7 and 8 in form);
+//   DIR/places.svg        places position error per method;
+//   DIR/rooms.svg         rooms precision and recall per method;
+//   DIR/backend_time.svg  backend seconds per round against deformation-graph poses;
+//   DIR/trials.json       every run's metrics.
+
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "hydra_multi/apps/commands.h"
+#include "hydra_multi/core/result.h"
+#include "hydra_multi/eval/trials_report.h"
+
+namespace hydra_multi::apps {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A run's metrics.json (numbers only) and its backend rounds from timing.csv.
+Result<TrialRun> readRun(const fs::path& dir, const std::string& method, uint64_t seed) {
+  TrialRun run;
+  run.method = method;
+  run.seed = seed;
+  std::ifstream metrics(dir / "metrics.json");
+  const nlohmann::json json = nlohmann::json::parse(metrics, nullptr, false);
+  if (json.is_discarded() || !json.is_object())
+    return Error{(dir / "metrics.json").string() + ": not a JSON object"};
+  for (const auto& [key, value] : json.items()) {
+    if (value.is_number()) run.metrics[key] = value.get<double>();
+  }
+  std::ifstream timing(dir / "timing.csv");
+  std::string line;
+  std::getline(timing, line);  // header
+  while (std::getline(timing, line)) {
+    if (line.rfind("backend,", 0) != 0) continue;
+    std::vector<std::string> cells;
+    std::stringstream s(line);
+    for (std::string cell; std::getline(s, cell, ',');) cells.push_back(cell);
+    if (cells.size() < 10 || cells[5].empty() || cells[9].empty()) continue;
+    run.rounds.push_back({std::stod(cells[9]), std::stod(cells[5]) / 1e3});
+  }
+  return run;
+}
+
+std::string show(const TrialRun& run, const std::string& key, int decimals) {
+  const auto it = run.metrics.find(key);
+  if (it == run.metrics.end()) return "n/a";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(decimals) << it->second;
+  return s.str();
+}
+
+}  // namespace
+
+int runTrials(const TrialsOptions& o) {
+  if (o.last_seed < o.first_seed) return fail("--seeds: the last seed is below the first");
+  for (const std::string& method : o.methods) {
+    if (std::find(trialMethods().begin(), trialMethods().end(), method) == trialMethods().end())
+      return fail("--methods: unknown method " + method);
+  }
+  const fs::path out(o.out);
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) return fail("cannot create " + o.out + ": " + ec.message());
+  const size_t total = (o.last_seed - o.first_seed + 1) * o.methods.size();
+  size_t done = 0;
+  std::vector<TrialRun> runs;
+  for (uint64_t seed = o.first_seed; seed <= o.last_seed; ++seed) {
+    const fs::path dataset = out / "datasets" / (o.preset + "-" + std::to_string(seed));
+    if (!fs::exists(dataset / "dataset.json")) {
+      std::cerr << "trials: simulating " << o.preset << " seed " << seed << std::endl;
+      SimulateOptions simulate;
+      simulate.preset = o.preset;
+      simulate.seed = seed;
+      simulate.out = dataset.string();
+      simulate.quiet = true;
+      std::ostringstream discard;
+      std::streambuf* old = std::cout.rdbuf(discard.rdbuf());
+      const int code = runSimulate(simulate);
+      std::cout.rdbuf(old);
+      if (code != 0) return fail("simulating " + o.preset + " seed " + std::to_string(seed));
+    }
+    for (const std::string& method : o.methods) {
+      const fs::path dir = out / "runs" / method / ("seed-" + std::to_string(seed));
+      ++done;
+      const bool reuse = !o.redo && fs::exists(dir / "metrics.json");
+      if (!reuse) {
+        RunOptions run;
+        run.dataset = dataset.string();
+        run.out = dir.string();
+        run.speed = o.speed;
+        run.config = o.config;
+        run.quiet = true;
+        run.print_summary = false;
+        if (method == "full" || method == "no-ia" || method == "no-rec")
+          run.ablation = method;
+        else
+          run.baseline = method;
+        if (runRun(run) != 0)
+          return fail("run " + method + " on " + o.preset + " seed " + std::to_string(seed));
+      }
+      auto result = readRun(dir, method, seed);
+      if (!result) return fail(result.error());
+      const TrialRun& r = result.value();
+      std::cerr << "[" << done << "/" << total << "] " << o.preset << " seed " << seed << " "
+                << method << (reuse ? " (reused)" : "") << ": ATE " << show(r, "ate_rmse_m", 2)
+                << " m, objects found " << show(r, "objects_found_pct", 1) << " % correct "
+                << show(r, "objects_correct_pct", 1) << " %, rooms P "
+                << show(r, "rooms_precision", 2) << " R " << show(r, "rooms_recall", 2)
+                << ", aligned " << show(r, "robots_aligned", 0) << "/" << show(r, "robots", 0)
+                << ", " << show(r, "wall_s", 1) << " s" << std::endl;
+      runs.push_back(std::move(result.value()));
+    }
+  }
+
+  // Table I: the system against the baselines; Table II: the ablations.
+  const auto present = [&](const std::vector<std::string>& wanted) {
+    std::vector<std::string> methods;
+    for (const std::string& m : wanted) {
+      if (std::find(o.methods.begin(), o.methods.end(), m) != o.methods.end()) methods.push_back(m);
+    }
+    return methods;
+  };
+  const std::vector<std::string> table1 = present({"full", "gt-align", "hm-align", "oracle-lc"});
+  const std::vector<std::string> table2 = present({"full", "no-rec", "no-ia"});
+  const std::vector<TableColumn> accuracy = {{"objects_found_pct", "objects found %", 1},
+                                             {"objects_correct_pct", "objects correct %", 1},
+                                             {"places_position_error_m", "places error m", 3},
+                                             {"rooms_precision", "rooms precision", 2},
+                                             {"rooms_recall", "rooms recall", 2},
+                                             {"ate_rmse_m", "ATE m", 3}};
+  std::vector<TableColumn> system = accuracy;
+  system.push_back({"robots_aligned", "robots aligned", 1});
+  system.push_back({"lc_inter_precision", "LC precision", 2});
+  system.push_back({"backend_ms_max", "backend max ms", 0});
+  system.push_back({"wall_s", "wall s", 1});
+  std::ostringstream table;
+  table << "# Trials: " << o.preset << ", seeds " << o.first_seed << "-" << o.last_seed << "\n\n"
+        << "Mean ± standard deviation over the seeds (`hydra-multi trials`). Objects and rooms as "
+           "`evaluate` scores them; baselines and oracle read ground truth (evaluation only).\n\n"
+        << "## Table I: the system and the baselines\n\n"
+        << markdownTable(runs, table1, system) << "\n## Table II: ablations\n\n"
+        << markdownTable(runs, table2, accuracy);
+  std::ofstream(out / "table.md") << table.str();
+  std::vector<std::string> all = o.methods;
+  const std::string name =
+      o.preset + ", seeds " + std::to_string(o.first_seed) + "-" + std::to_string(o.last_seed);
+  std::ofstream(out / "objects.svg") << barChartSvg(
+      "Objects (" + name + ")", runs, all,
+      {{"objects_found_pct", "found", 1}, {"objects_correct_pct", "correct", 1}}, "%");
+  std::ofstream(out / "places.svg") << barChartSvg(
+      "Places (" + name + ")", runs, all, {{"places_position_error_m", "position error", 3}}, "m");
+  std::ofstream(out / "rooms.svg")
+      << barChartSvg("Rooms (" + name + ")", runs, all,
+                     {{"rooms_precision", "precision", 2}, {"rooms_recall", "recall", 2}}, "");
+  std::ofstream(out / "backend_time.svg") << backendTimeSvg(runs, all);
+  nlohmann::json json = nlohmann::json::array();
+  for (const TrialRun& r : runs)
+    json.push_back({{"method", r.method}, {"seed", r.seed}, {"metrics", r.metrics}});
+  std::ofstream(out / "trials.json") << json.dump(1) << "\n";
+  std::cout << table.str() << "\noutputs in " << o.out
+            << ": table.md, objects.svg, places.svg, rooms.svg, backend_time.svg, trials.json, "
+               "runs/METHOD/seed-N/, datasets/\n";
+  return 0;
+}
+
+const std::vector<std::string>& trialMethods() {
+  static const std::vector<std::string> methods = {"full",   "gt-align", "hm-align",
+                                                   "no-rec", "no-ia",    "oracle-lc"};
+  return methods;
+}
+
+}  // namespace hydra_multi::apps
