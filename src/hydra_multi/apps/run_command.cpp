@@ -101,20 +101,31 @@ int runRun(const RunOptions& o) {
   auto truth = readDatasetGroundTruth(o.dataset);
   if (!truth) return fail(truth.error());
   const SceneGraphScore score = evaluateSceneGraph(result.graph, truth.value());
-  size_t inter = 0, inliers = 0, correct_inliers = 0;
+  // Inter-robot loop closures: detected, kept by the alignment's averaging and by GNC, and of
+  // each how many the ground truth calls correct.
+  size_t inter = 0, inter_correct = 0, inliers = 0, correct_inliers = 0;
+  size_t alignment_inliers = 0, alignment_correct = 0;
   for (const DetectedLoopClosure& c : result.loop_closures) {
     if (!c.interRobot()) continue;
     ++inter;
+    const auto stamp = [&](NodeId id) -> int64_t {
+      const Node* node = result.graph.findNode(id);
+      const AgentAttributes* agent = node ? node->find<AgentAttributes>() : nullptr;
+      return agent ? agent->timestamp_ns : -1;
+    };
+    const bool correct = checkLoopClosure(truth.value(), c.robot_a, stamp(c.keyframe_a), c.robot_b,
+                                          stamp(c.keyframe_b), c.T_a_b)
+                             .correct;
+    inter_correct += correct;
+    const auto averaged = result.alignment_inliers.find({c.keyframe_a, c.keyframe_b});
+    if (averaged != result.alignment_inliers.end() && averaged->second) {
+      ++alignment_inliers;
+      alignment_correct += correct;
+    }
     const auto kept = result.inter_robot_inliers.find({c.keyframe_a, c.keyframe_b});
     if (kept == result.inter_robot_inliers.end() || !kept->second) continue;
     ++inliers;
-    const auto stamp = [&](NodeId id) -> int64_t {
-      const Node* node = result.graph.findNode(id);
-      return node ? node->find<AgentAttributes>()->timestamp_ns : -1;
-    };
-    correct_inliers += checkLoopClosure(truth.value(), c.robot_a, stamp(c.keyframe_a), c.robot_b,
-                                        stamp(c.keyframe_b), c.T_a_b)
-                           .correct;
+    correct_inliers += correct;
   }
   std::vector<double> frontend_ms, backend_ms;
   for (const UpdateTiming& u : result.updates) frontend_ms.push_back(u.frontend_ms);
@@ -127,6 +138,9 @@ int runRun(const RunOptions& o) {
       {"lc_inter_inliers", inliers},
       {"lc_inter_precision", inliers ? nlohmann::ordered_json(double(correct_inliers) / inliers)
                                      : nlohmann::ordered_json(nullptr)},
+      {"lc_inter_correct", inter_correct},
+      {"lc_alignment_inliers", alignment_inliers},
+      {"lc_alignment_correct", alignment_correct},
       {"robots", result.robots},
       {"robots_aligned", result.aligned.size()},
       {"merges_accepted", result.rounds.empty() ? 0 : result.rounds.back().report.merges_accepted},
@@ -153,8 +167,10 @@ int runRun(const RunOptions& o) {
             << result.wall_s << " s\n"
             << "  robots aligned        " << result.aligned.size() << " of " << result.robots
             << "\n"
-            << "  inter-robot closures  " << inter << " detected, " << inliers
-            << " kept by GNC, of those " << correct_inliers << " correct\n"
+            << "  inter-robot closures  " << inter << " detected (" << inter_correct
+            << " correct), " << alignment_inliers << " inliers of the alignment ("
+            << alignment_correct << " correct), " << inliers << " kept by GNC (" << correct_inliers
+            << " correct)\n"
             << "  merges (last round)   "
             << (result.rounds.empty() ? 0 : result.rounds.back().report.merges_accepted)
             << " accepted of "

@@ -42,6 +42,11 @@ struct BackendOptions {
   /// false (the paper's baselines): no joint optimization; each robot's graph is optimized alone
   /// with its own loop closures and placed by its alignment; no merges.
   bool joint_optimization = true;
+  /// Inter-robot loop closures outside their pair's consensus (initial_alignment.h) start
+  /// rejected in GNC and come back only if they fit its result.
+  bool hold_out_alignment_outliers = true;
+  /// Merge factors start rejected in GNC and are kept where they fit its result.
+  bool hold_out_merges = true;
   /// Frames given from outside instead of estimated, T_global_robot (the gt-align baseline,
   /// evaluation only: the normal station never has them).
   std::map<RobotId, Eigen::Isometry3d> given_alignment;

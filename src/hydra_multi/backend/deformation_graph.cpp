@@ -178,11 +178,21 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
 }
 
 DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
-                                           const DeformationGraphOptions& options) {
+                                           const DeformationGraphOptions& options,
+                                           const std::set<std::pair<NodeId, NodeId>>& held_out) {
   DeformationResult result;
   if (graph.initial.empty()) return result;
   const PoseGraph& robust = options.two_stage ? graph.skeleton : graph.graph;
-  result.solve = optimizePoseGraph(robust, robust.poses, graph.anchor, options.solver);
+  RobustPgoOptions solver = options.solver;
+  if (!held_out.empty()) {
+    solver.held_out.assign(robust.edges.size(), false);
+    for (size_t k = 0; k < robust.edges.size(); ++k) {
+      const PoseGraphEdge& e = robust.edges[k];
+      solver.held_out[k] =
+          e.kind == PoseGraphEdge::Kind::kLoopClosure && held_out.count({e.from, e.to}) != 0;
+    }
+  }
+  result.solve = optimizePoseGraph(robust, robust.poses, graph.anchor, solver);
   result.poses = result.solve.poses;
   for (size_t i = 0; i < robust.edges.size(); ++i) {
     const PoseGraphEdge& e = robust.edges[i];

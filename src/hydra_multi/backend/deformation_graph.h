@@ -29,6 +29,7 @@
 // and d_max the distance to the (k+1)-th nearest control point.
 
 #include <map>
+#include <set>
 #include <vector>
 
 #include "hydra_multi/dsg/mesh.h"
@@ -92,8 +93,11 @@ struct DeformationResult {
   double whole_graph_s = 0.0;  ///< the whole-graph solve after it (two_stage)
 };
 
-DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
-                                           const DeformationGraphOptions& options = {});
+/// `held_out`: robust factors (from, to) GNC starts without, taken back only if they fit its
+/// result (RobustPgoOptions::held_out).
+DeformationResult optimizeDeformationGraph(
+    const DeformationGraph& graph, const DeformationGraphOptions& options = {},
+    const std::set<std::pair<NodeId, NodeId>>& held_out = {});
 
 /// Moves mesh vertices (global frame, before optimization) with their k nearest control points:
 /// `initial` and `optimized` poses of the control points.

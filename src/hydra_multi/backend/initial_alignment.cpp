@@ -33,6 +33,9 @@ const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
   const MultiRobotAlignment result =
       alignRobotFrames(robots.size(), poses, robot_of, edges, 0, options_.alignment);
   pairs_ = result.pairs;
+  edge_inliers_.clear();
+  for (size_t k = 0; k < edges.size(); ++k)
+    edge_inliers_[{edges[k].from, edges[k].to}] = result.edge_inlier[k];
 
   for (size_t i = 0; i < robots.size(); ++i) {
     const RobotId robot = robots[i];

@@ -25,6 +25,7 @@ struct InitialAlignmentOptions {
     MultiRobotAlignmentOptions options;
     options.averaging.information.setZero();
     options.averaging.information.diagonal() << 4.0, 4.0, 4.0, 400.0, 400.0, 400.0;
+    options.averaging.consensus = true;
     return options;
   }();
   double realign_threshold_m = 10.0;
@@ -57,12 +58,15 @@ class InitialAlignment {
   /// Per pair, the last round's averaging: loop closures and inliers.
   const std::vector<RobotPairAlignment>& pairs() const { return pairs_; }
   size_t realignments() const { return realignments_; }
+  /// Per inter-robot loop closure (from, to) of the last round: an inlier of its pair's average.
+  const std::map<std::pair<NodeId, NodeId>, bool>& edgeInliers() const { return edge_inliers_; }
 
  private:
   InitialAlignmentOptions options_;
   std::map<RobotId, RobotFrameAlignment> aligned_;
   std::vector<RobotPairAlignment> pairs_;
   size_t realignments_ = 0;
+  std::map<std::pair<NodeId, NodeId>, bool> edge_inliers_;
 };
 
 }  // namespace hydra_multi

@@ -25,6 +25,55 @@ Result<PoseAverage> robustPoseAverage(const std::vector<Eigen::Isometry3d>& esti
                                       const PoseAveragingOptions& options) {
   if (estimates.empty()) return Error{"pose averaging: no estimates"};
   PoseAverage average;
+  const auto residual = [&](const Eigen::Isometry3d& X, const Eigen::Isometry3d& estimate) {
+    const Vector6d e = logSE3(relativePose(X, estimate));
+    return e.dot(options.information * e);
+  };
+  if (options.consensus) {
+    const double c2 = options.gnc.thresholdSq();
+    // The estimate with the most others within the threshold (ties: the smaller spread).
+    size_t best = 0, best_count = 0;
+    double best_spread = 0.0;
+    for (size_t i = 0; i < estimates.size(); ++i) {
+      size_t count = 0;
+      double spread = 0.0;
+      for (size_t j = 0; j < estimates.size(); ++j) {
+        const double r2 = residual(estimates[i], estimates[j]);
+        if (r2 <= c2) {
+          ++count;
+          spread += r2;
+        }
+      }
+      if (count > best_count || (count == best_count && spread < best_spread)) {
+        best = i;
+        best_count = count;
+        best_spread = spread;
+      }
+    }
+    Eigen::Isometry3d current = estimates[best];
+    std::vector<double> weights(estimates.size(), 0.0);
+    for (int iteration = 0; iteration < 50; ++iteration) {
+      std::vector<double> next(estimates.size());
+      for (size_t k = 0; k < estimates.size(); ++k)
+        next[k] = residual(current, estimates[k]) <= c2 ? 1.0 : 0.0;
+      if (next == weights) break;
+      weights = next;
+      auto X =
+          weightedPoseAverage(estimates, weights, current, options.max_gauss_newton_iterations);
+      if (!X) break;
+      current = X.value();
+    }
+    average.T = current;
+    average.gnc.weights = weights;
+    average.gnc.stop_reason = "consensus";
+    for (const double w : weights) {
+      average.inliers.push_back(w > 0.5);
+      average.num_inliers += w > 0.5;
+    }
+    average.gnc.inliers = average.inliers;
+    average.gnc.num_inliers = average.num_inliers;
+    return average;
+  }
   // Warm start: each weighted solve starts from the previous average.
   Eigen::Isometry3d current = estimates.front();
   const auto solve = [&](const std::vector<double>& weights) {

@@ -21,6 +21,13 @@ struct PoseAveragingOptions {
   Matrix6d information = Matrix6d::Identity();  ///< Sigma^-1, order: translation, rotation
   GncOptions gnc;
   int max_gauss_newton_iterations = 50;
+  /// Maximum consensus instead of GNC from the least-squares mean: start at the estimate with
+  /// the most others within the inlier threshold, then alternate the TLS inlier set (within the
+  /// threshold of the average) and the average of that set until the set is stable. GNC from the
+  /// mean follows the bulk of the estimates; when most of them are wrong (look-alike rooms give
+  /// several consistent wrong clusters) the largest consistent cluster is the right one more
+  /// often than the mean's basin is.
+  bool consensus = false;
 };
 
 struct PoseAverage {
@@ -35,7 +42,7 @@ Result<Eigen::Isometry3d> weightedPoseAverage(const std::vector<Eigen::Isometry3
                                               const std::vector<double>& weights,
                                               const Eigen::Isometry3d& start, int max_iterations);
 
-/// eq. (2) with GNC-TLS; fails with no estimates.
+/// eq. (2) with GNC-TLS (or maximum consensus, see options); fails with no estimates.
 Result<PoseAverage> robustPoseAverage(const std::vector<Eigen::Isometry3d>& estimates,
                                       const PoseAveragingOptions& options = {});
 

@@ -17,10 +17,10 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
   PoseGraphProblem problem(graph, initial, anchor, options.solver);
 
   // Robust factors: the loop closures the problem includes.
-  std::vector<size_t> robust_edges;
+  std::vector<size_t> robust_edges, held_out;
   for (size_t k = 0; k < graph.edges.size(); ++k) {
     if (graph.edges[k].kind == PoseGraphEdge::Kind::kLoopClosure && problem.edgeIncluded(k)) {
-      robust_edges.push_back(k);
+      (k < options.held_out.size() && options.held_out[k] ? held_out : robust_edges).push_back(k);
     }
   }
 
@@ -56,6 +56,7 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
   };
 
   std::vector<double> edge_weights(graph.edges.size(), 1.0);
+  for (const size_t k : held_out) edge_weights[k] = 0.0;
   const auto solve = [&](const std::vector<double>& weights) {
     for (size_t r = 0; r < robust_edges.size(); ++r) edge_weights[robust_edges[r]] = weights[r];
     problem.setWeights(edge_weights);
@@ -96,6 +97,7 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
   for (size_t r = 0; r < robust_edges.size() && options.robust; ++r) {
     result.edge_inlier[robust_edges[r]] = result.gnc.inliers[r];
   }
+  for (const size_t k : held_out) result.edge_inlier[k] = false;
 
   if (options.robust && (conjugate_gradients || options.readmit_consistent)) {
     // Polish: the exact optimum over the inliers with the configured (sparse) solver; then take
@@ -115,7 +117,9 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
       if (options.readmit_consistent) {
         PoseGraph rejected;
         std::vector<size_t> index;
-        for (const size_t k : robust_edges) {
+        std::vector<size_t> candidates = robust_edges;
+        candidates.insert(candidates.end(), held_out.begin(), held_out.end());
+        for (const size_t k : candidates) {
           if (!result.edge_inlier[k]) {
             rejected.edges.push_back(graph.edges[k]);
             index.push_back(k);

@@ -177,6 +177,7 @@ StationResult runStation(const DatasetStreams& input, const StationOptions& opti
   result.graph = backend.graph();
   result.loop_closures = detector.loopClosures();
   result.inter_robot_inliers = backend.loopClosureInliers();
+  result.alignment_inliers = backend.alignment().edgeInliers();
   result.aligned = backend.aligned();
   result.counts = processor.counts();
   result.wall_s = std::chrono::duration<double>(Clock::now() - start).count();

@@ -50,6 +50,7 @@ struct StationResult {
   std::vector<RoundTiming> rounds;
   std::vector<DetectedLoopClosure> loop_closures;
   std::map<std::pair<NodeId, NodeId>, bool> inter_robot_inliers;  ///< last round's GNC
+  std::map<std::pair<NodeId, NodeId>, bool> alignment_inliers;    ///< last round's averaging
   std::map<RobotId, RobotFrameAlignment> aligned;
   SceneGraphProcessor::Counts counts;
   size_t robots = 0;
