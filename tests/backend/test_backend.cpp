@@ -98,6 +98,20 @@ TEST_F(TinyTeam, FullRound) {
   EXPECT_GT(score.objects_found_pct.value(), 70.0);
   EXPECT_GT(score.objects_correct_pct.value(), 70.0);
   EXPECT_GT(score.rooms_precision.value(), 0.2);
+
+  // Every merge is recorded, checkable against the truth, and none joins two true rooms.
+  ASSERT_EQ(backend.merges().size(), report.merges_accepted);
+  for (const AcceptedMerge& m : backend.merges()) {
+    const MergeCheck check =
+        checkMerge(*truth_,
+                   {m.target_side.robot, m.target_side.position, m.target_side.keyframe_stamp_ns,
+                    m.target_side.T_global_keyframe},
+                   {m.source_side.robot, m.source_side.position, m.source_side.keyframe_stamp_ns,
+                    m.source_side.T_global_keyframe});
+    EXPECT_TRUE(check.checked) << m.source.str();
+    EXPECT_FALSE(check.across_rooms) << m.source.str() << " into " << m.target.str();
+    EXPECT_LT(check.true_distance_m, 1.5) << m.source.str() << " into " << m.target.str();
+  }
 }
 
 // GNC over the whole graph in one stage finds the same loop closures as GNC on the skeleton.

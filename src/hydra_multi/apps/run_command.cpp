@@ -127,6 +127,21 @@ int runRun(const RunOptions& o) {
     ++inliers;
     correct_inliers += correct;
   }
+  // Merges of the last round that joined two different true rooms.
+  size_t merges_across_rooms = 0;
+  const auto sideOf = [](const AcceptedMerge::Side& s) {
+    return MergeSide{s.robot, s.position, s.keyframe_stamp_ns, s.T_global_keyframe};
+  };
+  for (const AcceptedMerge& m : result.merges) {
+    const MergeCheck check =
+        checkMerge(truth.value(), sideOf(m.target_side), sideOf(m.source_side));
+    if (!check.across_rooms) continue;
+    ++merges_across_rooms;
+    if (!o.quiet)
+      std::cerr << "evaluation: merge of " << m.source.str() << " into " << m.target.str() << " ("
+                << layerName(m.layer) << ") joins two true rooms, " << check.true_distance_m
+                << " m apart" << std::endl;
+  }
   std::vector<double> frontend_ms, backend_ms;
   for (const UpdateTiming& u : result.updates) frontend_ms.push_back(u.frontend_ms);
   for (const RoundTiming& r : result.rounds) backend_ms.push_back(r.report.time_s * 1e3);
@@ -145,6 +160,7 @@ int runRun(const RunOptions& o) {
       {"robots_aligned", result.aligned.size()},
       {"merges_accepted", result.rounds.empty() ? 0 : result.rounds.back().report.merges_accepted},
       {"merges_undone", result.rounds.empty() ? 0 : result.rounds.back().report.merges_undone},
+      {"merges_across_rooms", merges_across_rooms},
       {"frontend_ms_p50", frontend.median},
       {"frontend_ms_max", frontend.max},
       {"backend_ms_p50", backend.median},
@@ -177,7 +193,7 @@ int runRun(const RunOptions& o) {
             << (result.rounds.empty() ? 0 : result.rounds.back().report.merges_proposed)
             << " proposed, "
             << (result.rounds.empty() ? 0 : result.rounds.back().report.merges_undone)
-            << " undone\n"
+            << " undone, " << merges_across_rooms << " across two true rooms\n"
             << "  ATE                   " << show(score.ate_rmse_m, 3) << " m\n"
             << "  objects found         " << show(score.objects_found_pct, 1) << " %\n"
             << "  objects correct       " << show(score.objects_correct_pct, 1) << " % ("

@@ -7,6 +7,41 @@
 #include "hydra_multi/core/nearest_neighbors.h"
 
 namespace hydra_multi {
+namespace {
+
+// Global positions of the aligned robots' places and objects after a solve of `graph`: places as
+// solved, objects moved as their robot's nearest keyframe moved.
+std::map<NodeId, Eigen::Vector3d> optimizedPositions(
+    const SceneGraph& frontend, const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
+    const DeformationGraph& graph, const DeformationResult& solved) {
+  std::map<NodeId, Eigen::Vector3d> positions;
+  for (const auto& [robot, T] : T_global_robot) {
+    std::vector<Eigen::Vector3d> keyframe_positions;
+    std::vector<Eigen::Isometry3d> motion;  // optimized * initial^-1, per keyframe
+    std::vector<NodeId> objects;
+    for (const NodeId id : frontend.nodesOfRobot(robot)) {
+      const Layer layer = frontend.getNode(id).layer();
+      const auto solved_pose = solved.poses.find(id);
+      if (layer == Layer::kAgents && solved_pose != solved.poses.end()) {
+        keyframe_positions.push_back(graph.initial.at(id).translation());
+        motion.push_back(solved_pose->second * graph.initial.at(id).inverse());
+      } else if (layer == Layer::kPlaces && solved_pose != solved.poses.end()) {
+        positions[id] = solved_pose->second.translation();
+      } else if (layer == Layer::kObjects) {
+        objects.push_back(id);
+      }
+    }
+    if (keyframe_positions.empty()) continue;
+    const NearestNeighbors near(keyframe_positions);
+    for (const NodeId id : objects) {
+      const Eigen::Vector3d aligned = T * frontend.getNode(id).position;
+      positions[id] = motion[near.nearest(aligned).front().index] * aligned;
+    }
+  }
+  return positions;
+}
+
+}  // namespace
 
 BackendRoundReport Backend::round(const SceneGraph& frontend,
                                   const std::vector<BackendRobot>& robots,
@@ -53,21 +88,8 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   for (const RobotDeformationInput& input : inputs)
     T_global_robot[input.robot] = input.T_global_robot;
   const bool joint = options_.joint_optimization;
-  std::map<RobotId, const Mesh*> meshes;
-  for (const BackendRobot* robot : included) meshes[robot->robot] = robot->mesh;
-  const std::vector<MergeCandidate> candidates =
-      options_.reconcile && joint
-          ? refineObjectMerges(proposeMerges(frontend, T_global_robot, options_.reconciliation),
-                               frontend, T_global_robot, meshes, options_.reconciliation)
-          : std::vector<MergeCandidate>();
-  const std::vector<PoseGraphEdge> merges =
-      mergeFactors(candidates, T_global_robot, options_.reconciliation);
-  const DeformationGraph dg =
-      buildDeformationGraph(frontend, inputs, joint ? inter_robot : std::vector<PoseGraphEdge>(),
-                            merges, options_.deformation);
-  report.variables = dg.initial.size();
-  report.factors = dg.graph.edges.size();
-  report.build_s = lap();
+  const std::vector<PoseGraphEdge> loop_closures =
+      joint ? inter_robot : std::vector<PoseGraphEdge>();
   // Inter-robot loop closures the alignment's consensus rejected start out of GNC (taken back
   // if they fit its result): GNC alone follows a majority of consistent wrong ones (dorm-2).
   std::set<std::pair<NodeId, NodeId>> held_out;
@@ -77,13 +99,40 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
       if (!inlier) held_out.insert(edge);
     }
   }
-  // Merge factors likewise: proposed from the aligned map itself, they are no evidence of their
+  // Reconciliation proposals, on the map the loop closures alone optimize (the skeleton's
+  // solve): drift no longer separates two robots' copies of a place there.
+  std::vector<MergeCandidate> candidates;
+  std::map<NodeId, Eigen::Isometry3d> solved_poses;
+  if (options_.reconcile && joint) {
+    const DeformationGraph first =
+        buildDeformationGraph(frontend, inputs, loop_closures, {}, options_.deformation);
+    DeformationGraphOptions skeleton = options_.deformation;
+    skeleton.final_iterations = 0;
+    const DeformationResult solved = optimizeDeformationGraph(first, skeleton, held_out);
+    solved_poses = solved.poses;
+    const std::map<NodeId, Eigen::Vector3d> positions =
+        optimizedPositions(frontend, T_global_robot, first, solved);
+    std::map<RobotId, const Mesh*> meshes;
+    for (const BackendRobot* robot : included) meshes[robot->robot] = robot->mesh;
+    candidates = refineObjectMerges(
+        proposeMerges(frontend, T_global_robot, options_.reconciliation, &positions), frontend,
+        T_global_robot, meshes, options_.reconciliation, &positions);
+  }
+  const std::vector<PoseGraphEdge> merges =
+      mergeFactors(candidates, T_global_robot, options_.reconciliation);
+  const DeformationGraph dg =
+      buildDeformationGraph(frontend, inputs, loop_closures, merges, options_.deformation);
+  report.variables = dg.initial.size();
+  report.factors = dg.graph.edges.size();
+  report.build_s = lap();
+  // Merge factors start held out too: proposed from the map itself, they are no evidence of their
   // own, and look-alike rooms make wrong ones that would bend the graph (dorm-2: ATE 3.9 m with
   // them in GNC, 1.0 m without); they are kept where they fit the loop closures' result.
   if (options_.hold_out_merges) {
     for (const PoseGraphEdge& e : merges) held_out.insert({e.from, e.to});
   }
-  const DeformationResult result = optimizeDeformationGraph(dg, options_.deformation, held_out);
+  const DeformationResult result = optimizeDeformationGraph(
+      dg, options_.deformation, held_out, solved_poses.empty() ? nullptr : &solved_poses);
   report.whole_graph_s = result.whole_graph_s;
   report.gnc_s = lap() - result.whole_graph_s;
   inliers_.clear();
@@ -182,6 +231,7 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   }
 
   // 4. Merges GNC kept, unless fewer than min_valid_share of the proposed ones were kept.
+  merges_.clear();
   std::vector<const MergeCandidate*> kept;
   for (const MergeCandidate& c : candidates) {
     const auto it = result.robust_inlier.find({c.target, c.source});
@@ -190,8 +240,33 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   report.merges_proposed = candidates.size();
   if (!candidates.empty() &&
       double(kept.size()) >= options_.reconciliation.min_valid_share * double(candidates.size())) {
+    // Each robot's optimized keyframes, for the record of every merge.
+    std::map<RobotId, std::pair<std::vector<Eigen::Vector3d>, std::vector<const Node*>>> keyframes;
+    for (const NodeId id : graph.nodesInLayer(Layer::kAgents)) {
+      const Node& node = graph.getNode(id);
+      if (const auto robot = id.sourceRobot()) {
+        keyframes[*robot].first.push_back(node.position);
+        keyframes[*robot].second.push_back(&node);
+      }
+    }
+    std::map<RobotId, NearestNeighbors> near_keyframe;
+    for (const auto& [robot, list] : keyframes) near_keyframe.emplace(robot, list.first);
+    const auto side = [&](NodeId id) {
+      AcceptedMerge::Side s;
+      s.robot = id.sourceRobot().value_or(RobotId(0));
+      s.position = graph.getNode(id).position;
+      const auto index = near_keyframe.find(s.robot);
+      if (index == near_keyframe.end()) return s;
+      const auto nearest = index->second.nearest(s.position);
+      if (nearest.empty()) return s;
+      const Node& keyframe = *keyframes[s.robot].second[nearest.front().index];
+      s.keyframe_stamp_ns = keyframe.find<AgentAttributes>()->timestamp_ns;
+      s.T_global_keyframe = nodePose(keyframe);
+      return s;
+    };
     for (const MergeCandidate* c : kept) {
       if (!graph.hasNode(c->target) || !graph.hasNode(c->source)) continue;
+      merges_.push_back({c->target, c->source, c->layer, side(c->target), side(c->source)});
       graph.mergeNodes(c->target, c->source);
       ++report.merges_accepted;
     }

@@ -67,6 +67,19 @@ struct BackendRoundReport {
          rooms_s = 0.0;
 };
 
+/// A merge the backend made, with what evaluation needs to check it: each node's global position
+/// before the merge and the keyframe of its robot nearest to it (stamp, optimized global pose).
+struct AcceptedMerge {
+  NodeId target, source;
+  Layer layer = Layer::kPlaces;
+  struct Side {
+    RobotId robot;
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();
+    int64_t keyframe_stamp_ns = -1;  ///< -1: the robot has no keyframe
+    Eigen::Isometry3d T_global_keyframe = Eigen::Isometry3d::Identity();
+  } target_side, source_side;
+};
+
 class Backend {
  public:
   explicit Backend(BackendOptions options = {})
@@ -85,6 +98,8 @@ class Backend {
   const std::map<RobotId, RobotFrameAlignment>& aligned() const { return aligned_; }
   /// Per inter-robot loop closure (from, to) of the last round: kept by GNC.
   const std::map<std::pair<NodeId, NodeId>, bool>& loopClosureInliers() const { return inliers_; }
+  /// The merges of the last round.
+  const std::vector<AcceptedMerge>& merges() const { return merges_; }
 
  private:
   BackendOptions options_;
@@ -93,6 +108,7 @@ class Backend {
   SceneGraph graph_;
   std::map<RobotId, Eigen::Isometry3d> optimized_first_keyframes_;
   std::map<std::pair<NodeId, NodeId>, bool> inliers_;
+  std::vector<AcceptedMerge> merges_;
 };
 
 }  // namespace hydra_multi

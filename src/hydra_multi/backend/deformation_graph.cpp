@@ -179,7 +179,8 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
 
 DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
                                            const DeformationGraphOptions& options,
-                                           const std::set<std::pair<NodeId, NodeId>>& held_out) {
+                                           const std::set<std::pair<NodeId, NodeId>>& held_out,
+                                           const std::map<NodeId, Eigen::Isometry3d>* start) {
   DeformationResult result;
   if (graph.initial.empty()) return result;
   const PoseGraph& robust = options.two_stage ? graph.skeleton : graph.graph;
@@ -192,7 +193,14 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
           e.kind == PoseGraphEdge::Kind::kLoopClosure && held_out.count({e.from, e.to}) != 0;
     }
   }
-  result.solve = optimizePoseGraph(robust, robust.poses, graph.anchor, solver);
+  std::map<NodeId, Eigen::Isometry3d> initial_poses = robust.poses;
+  if (start != nullptr) {
+    for (auto& [id, pose] : initial_poses) {
+      const auto it = start->find(id);
+      if (it != start->end()) pose = it->second;
+    }
+  }
+  result.solve = optimizePoseGraph(robust, initial_poses, graph.anchor, solver);
   result.poses = result.solve.poses;
   for (size_t i = 0; i < robust.edges.size(); ++i) {
     const PoseGraphEdge& e = robust.edges[i];
@@ -203,7 +211,7 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
 
   // The whole graph with the robust factors GNC kept, from the skeleton's solution: control
   // points start where the keyframe that observed them moved them.
-  const auto start = std::chrono::steady_clock::now();
+  const auto whole_start = std::chrono::steady_clock::now();
   PoseGraph whole;
   for (PoseGraphEdge e : graph.graph.edges) {
     if (e.kind == PoseGraphEdge::Kind::kLoopClosure) {
@@ -232,7 +240,7 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
   const RobustPgoResult solved = optimizePoseGraph(whole, initial, graph.anchor, plain);
   if (solved.usable) result.poses = solved.poses;
   result.whole_graph_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - whole_start).count();
   return result;
 }
 

@@ -94,10 +94,12 @@ struct DeformationResult {
 };
 
 /// `held_out`: robust factors (from, to) GNC starts without, taken back only if they fit its
-/// result (RobustPgoOptions::held_out).
+/// result (RobustPgoOptions::held_out). `start`: poses to start from instead of the graph's
+/// initial ones, where it has them (a previous solve's).
 DeformationResult optimizeDeformationGraph(
     const DeformationGraph& graph, const DeformationGraphOptions& options = {},
-    const std::set<std::pair<NodeId, NodeId>>& held_out = {});
+    const std::set<std::pair<NodeId, NodeId>>& held_out = {},
+    const std::map<NodeId, Eigen::Isometry3d>* start = nullptr);
 
 /// Moves mesh vertices (global frame, before optimization) with their k nearest control points:
 /// `initial` and `optimized` poses of the control points.

@@ -50,15 +50,23 @@ std::vector<MergeCandidate> pairUp(const std::vector<Item>& items, Layer layer, 
 
 }  // namespace
 
+Eigen::Vector3d globalPosition(NodeId id, const Eigen::Vector3d& aligned,
+                               const std::map<NodeId, Eigen::Vector3d>* optimized) {
+  if (optimized == nullptr) return aligned;
+  const auto it = optimized->find(id);
+  return it == optimized->end() ? aligned : it->second;
+}
+
 std::vector<MergeCandidate> proposeMerges(
     const SceneGraph& frontend, const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
-    const ReconciliationOptions& options) {
+    const ReconciliationOptions& options, const std::map<NodeId, Eigen::Vector3d>* optimized) {
   std::vector<Item> places, objects;
   for (const auto& [robot, T] : T_global_robot) {
     for (const NodeId id : frontend.nodesOfRobot(robot)) {
       const Node& node = frontend.getNode(id);
-      if (node.layer() == Layer::kPlaces) places.push_back({id, robot, T * node.position, &node});
-      if (node.layer() == Layer::kObjects) objects.push_back({id, robot, T * node.position, &node});
+      const Eigen::Vector3d p = globalPosition(id, T * node.position, optimized);
+      if (node.layer() == Layer::kPlaces) places.push_back({id, robot, p, &node});
+      if (node.layer() == Layer::kObjects) objects.push_back({id, robot, p, &node});
     }
   }
   std::vector<MergeCandidate> candidates =
@@ -91,7 +99,8 @@ std::vector<MergeCandidate> proposeMerges(
 std::vector<MergeCandidate> refineObjectMerges(
     std::vector<MergeCandidate> candidates, const SceneGraph& frontend,
     const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
-    const std::map<RobotId, const Mesh*>& meshes, const ReconciliationOptions& options) {
+    const std::map<RobotId, const Mesh*>& meshes, const ReconciliationOptions& options,
+    const std::map<NodeId, Eigen::Vector3d>* optimized) {
   if (!options.object_icp) return candidates;
   // An object's vertices and its node pose as the deformation graph starts it, global frame.
   const auto object = [&](NodeId id, std::vector<Eigen::Vector3d>& points,
@@ -101,13 +110,14 @@ std::vector<MergeCandidate> refineObjectMerges(
     if (!node || !robot || !T_global_robot.count(*robot)) return false;
     const Eigen::Isometry3d& T = T_global_robot.at(*robot);
     pose = T;
-    pose.translation() = T * node->position;
+    pose.translation() = globalPosition(id, T * node->position, optimized);
+    const Eigen::Vector3d shift = pose.translation() - T * node->position;
     const auto mesh = meshes.find(*robot);
     const ObjectAttributes* attributes = node->find<ObjectAttributes>();
     if (mesh == meshes.end() || mesh->second == nullptr || attributes == nullptr) return true;
     for (const uint64_t v : attributes->mesh_vertices) {
       if (v < mesh->second->vertices.size())
-        points.push_back(T * mesh->second->vertices[v].position.cast<double>());
+        points.push_back(T * mesh->second->vertices[v].position.cast<double>() + shift);
     }
     return true;
   };

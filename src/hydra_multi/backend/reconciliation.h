@@ -50,17 +50,22 @@ struct MergeCandidate {
 };
 
 /// Candidates among the places and objects of the aligned robots (`T_global_robot`) of
-/// `frontend` (each robot's nodes in its own frame).
+/// `frontend` (each robot's nodes in its own frame). `optimized`, when given, holds global
+/// positions of nodes from the previous round's optimization, used instead of the aligned ones:
+/// the merge factors are tested against the optimized graph, where drift no longer separates the
+/// robots' copies of a place.
 std::vector<MergeCandidate> proposeMerges(
     const SceneGraph& frontend, const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
-    const ReconciliationOptions& options = {});
+    const ReconciliationOptions& options = {},
+    const std::map<NodeId, Eigen::Vector3d>* optimized = nullptr);
 
 /// Checks the object candidates by ICP on their mesh vertices (`meshes`: each robot's, in its own
 /// frame); drops those that do not fit and gives the others their measurement. Places pass.
 std::vector<MergeCandidate> refineObjectMerges(
     std::vector<MergeCandidate> candidates, const SceneGraph& frontend,
     const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
-    const std::map<RobotId, const Mesh*>& meshes, const ReconciliationOptions& options = {});
+    const std::map<RobotId, const Mesh*>& meshes, const ReconciliationOptions& options = {},
+    const std::map<NodeId, Eigen::Vector3d>* optimized = nullptr);
 
 /// The merge factors: ICP's measurement where there is one, else zero translation with the
 /// rotation the alignment gives.

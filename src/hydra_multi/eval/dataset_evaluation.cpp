@@ -40,6 +40,23 @@ int trueRoom(const DatasetGroundTruth& truth, const std::unordered_map<int64_t, 
 
 }  // namespace
 
+MergeCheck checkMerge(const DatasetGroundTruth& truth, const MergeSide& a, const MergeSide& b,
+                      double min_distance_m) {
+  MergeCheck check;
+  const Eigen::Isometry3d* world_a = truth.poseAt(a.robot, a.keyframe_stamp_ns);
+  const Eigen::Isometry3d* world_b = truth.poseAt(b.robot, b.keyframe_stamp_ns);
+  if (world_a == nullptr || world_b == nullptr) return check;
+  const Eigen::Vector3d p = *world_a * (a.T_global_keyframe.inverse() * a.position);
+  const Eigen::Vector3d q = *world_b * (b.T_global_keyframe.inverse() * b.position);
+  check.checked = true;
+  check.true_distance_m = (p - q).norm();
+  const auto rooms = roomOfCell(truth);
+  const int room_p = trueRoom(truth, rooms, p), room_q = trueRoom(truth, rooms, q);
+  check.across_rooms =
+      room_p >= 0 && room_q >= 0 && room_p != room_q && check.true_distance_m > min_distance_m;
+  return check;
+}
+
 SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundTruth& truth) {
   SceneGraphScore score;
   score.object_threshold_m = truth.object_threshold_m;

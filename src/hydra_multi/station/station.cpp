@@ -178,6 +178,7 @@ StationResult runStation(const DatasetStreams& input, const StationOptions& opti
   result.loop_closures = detector.loopClosures();
   result.inter_robot_inliers = backend.loopClosureInliers();
   result.alignment_inliers = backend.alignment().edgeInliers();
+  result.merges = backend.merges();
   result.aligned = backend.aligned();
   result.counts = processor.counts();
   result.wall_s = std::chrono::duration<double>(Clock::now() - start).count();

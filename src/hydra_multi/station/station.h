@@ -51,6 +51,7 @@ struct StationResult {
   std::vector<DetectedLoopClosure> loop_closures;
   std::map<std::pair<NodeId, NodeId>, bool> inter_robot_inliers;  ///< last round's GNC
   std::map<std::pair<NodeId, NodeId>, bool> alignment_inliers;    ///< last round's averaging
+  std::vector<AcceptedMerge> merges;                              ///< last round's
   std::map<RobotId, RobotFrameAlignment> aligned;
   SceneGraphProcessor::Counts counts;
   size_t robots = 0;
