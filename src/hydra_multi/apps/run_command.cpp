@@ -108,10 +108,10 @@ int runRun(const RunOptions& o) {
   for (const DetectedLoopClosure& c : result.loop_closures) {
     if (!c.interRobot()) continue;
     ++inter;
+    // Stamps from the frontend: robots not aligned are not in the backend graph.
     const auto stamp = [&](NodeId id) -> int64_t {
-      const Node* node = result.graph.findNode(id);
-      const AgentAttributes* agent = node ? node->find<AgentAttributes>() : nullptr;
-      return agent ? agent->timestamp_ns : -1;
+      const auto it = result.keyframe_stamps.find(id);
+      return it == result.keyframe_stamps.end() ? -1 : it->second;
     };
     const bool correct = checkLoopClosure(truth.value(), c.robot_a, stamp(c.keyframe_a), c.robot_b,
                                           stamp(c.keyframe_b), c.T_a_b)

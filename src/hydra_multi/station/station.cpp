@@ -181,6 +181,10 @@ StationResult runStation(const DatasetStreams& input, const StationOptions& opti
   result.merges = backend.merges();
   result.aligned = backend.aligned();
   result.counts = processor.counts();
+  for (const NodeId id : processor.graph().nodesInLayer(Layer::kAgents)) {
+    if (const auto* agent = processor.graph().getNode(id).find<AgentAttributes>())
+      result.keyframe_stamps[id] = agent->timestamp_ns;
+  }
   result.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
   return result;
 }

@@ -52,6 +52,7 @@ struct StationResult {
   std::map<std::pair<NodeId, NodeId>, bool> inter_robot_inliers;  ///< last round's GNC
   std::map<std::pair<NodeId, NodeId>, bool> alignment_inliers;    ///< last round's averaging
   std::vector<AcceptedMerge> merges;                              ///< last round's
+  std::map<NodeId, int64_t> keyframe_stamps;  ///< every keyframe the frontend holds at the end
   std::map<RobotId, RobotFrameAlignment> aligned;
   SceneGraphProcessor::Counts counts;
   size_t robots = 0;
