@@ -158,7 +158,11 @@ std::vector<PoseGraphEdge> mergeFactors(const std::vector<MergeCandidate>& candi
     e.T_from_to.linear() =
         T_global_robot.at(*ra).linear().transpose() * T_global_robot.at(*rb).linear();
     if (c.T_target_source) e.T_from_to = *c.T_target_source;
-    e.information = informationFromVariances(options.merge_variance, options.merge_variance);
+    // A place has no orientation, so its merge factor holds the positions only; an object's holds
+    // its rotation too where ICP measured it.
+    e.information = informationFromVariances(
+        options.merge_variance,
+        c.T_target_source ? options.merge_variance : options.unmeasured_rotation_variance);
     factors.push_back(e);
   }
   return factors;
