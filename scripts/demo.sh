@@ -2,7 +2,7 @@
 # The demo: a simulated team of three robots mapping an office floor (office-3, seed 1, the
 # built-in default dataset) through the whole station, scored against its ground truth and set
 # against the paper's baselines; then the real Hydra scene graph of the uHumans2 apartment in every
-# format the project writes, and the robust back end on real multi-robot data. About 3 minutes on
+# format the project writes, and the robust back end on real multi-robot data. About 2 minutes on
 # 2 cores.
 set -euo pipefail
 bin=${1:?usage: demo.sh HYDRA_MULTI_BINARY DATA_DIR OUT_DIR}
