@@ -11,11 +11,12 @@
 // vertices paired, too large an error, too large a shift) is dropped; for the others ICP's
 // transform gives the merge factor's measurement. Each candidate becomes a robust factor of the
 // deformation graph (deformation_graph.h): the relative pose ICP found, or for places (and objects
-// without vertices) the two nodes at one position, their rotations as aligned. After the solve,
-// NodeReconciliation merges the candidates GNC kept, unless fewer than min_valid_share of the
-// proposed ones were kept: then none of this round's merges is made (the paper's undo). The backend
-// graph is rebuilt every round, so a merge is taken back whenever a later round no longer supports
-// it.
+// without vertices) the two nodes at one position. The backend proposes on the map its loop
+// closures optimized and holds the factors out of GNC, keeping those that fit its result
+// (backend.h). NodeReconciliation then merges the kept candidates, unless fewer than
+// min_valid_share of the proposed ones were kept: then none of this round's merges is made (the
+// paper's undo). The backend graph is rebuilt every round, so a merge is taken back whenever a
+// later round no longer supports it.
 
 #include <map>
 #include <optional>
