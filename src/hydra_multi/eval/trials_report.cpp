@@ -32,6 +32,17 @@ std::string escape(const std::string& text) {
   return out;
 }
 
+// The opening of a chart: the svg element, a white background and the title.
+std::string svgHeader(double width, double height, const std::string& title) {
+  std::ostringstream svg;
+  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height
+      << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
+      << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+      << "<text x=\"" << width / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">"
+      << escape(title) << "</text>\n";
+  return svg.str();
+}
+
 // A "nice" upper bound for an axis: 1, 2 or 5 times a power of ten at or above v.
 double niceCeiling(double v) {
   if (v <= 0.0) return 1.0;
@@ -105,11 +116,7 @@ std::string barChartSvg(const std::string& title, const std::vector<TrialRun>& r
   const double y_max = niceCeiling(top_value);
   const auto y = [&](double v) { return top + plot_h * (1.0 - std::clamp(v / y_max, 0.0, 1.0)); };
   std::ostringstream svg;
-  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height
-      << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
-      << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
-      << "<text x=\"" << width / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">"
-      << escape(title) << "</text>\n";
+  svg << svgHeader(width, height, title);
   for (int t = 0; t <= 5; ++t) {
     const double v = y_max * t / 5.0;
     svg << "<line x1=\"" << left << "\" x2=\"" << left + plot_w << "\" y1=\"" << y(v) << "\" y2=\""
@@ -166,11 +173,7 @@ std::string backendTimeSvg(const std::vector<TrialRun>& runs,
   const auto X = [&](double v) { return left + plot_w * std::clamp(v / x_max, 0.0, 1.0); };
   const auto Y = [&](double v) { return top + plot_h * (1.0 - std::clamp(v / y_max, 0.0, 1.0)); };
   std::ostringstream svg;
-  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height
-      << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
-      << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
-      << "<text x=\"" << width / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">"
-      << "Backend time per round against deformation-graph size</text>\n";
+  svg << svgHeader(width, height, "Backend time per round against deformation-graph size");
   for (int t = 0; t <= 5; ++t) {
     const double xv = x_max * t / 5.0, yv = y_max * t / 5.0;
     svg << "<line x1=\"" << left << "\" x2=\"" << left + plot_w << "\" y1=\"" << Y(yv) << "\" y2=\""
