@@ -127,5 +127,49 @@ TEST(InitialAlignment, RealignsOnlyOnLargeDisagreement) {
   EXPECT_EQ(alignment.realignments(), 1u);
 }
 
+// Look-alike rooms: loop closures that all agree on robot b sitting 15 m off along x.
+std::vector<PoseGraphEdge> shiftedClosures(const Team& t, RobotId a, RobotId b, size_t count,
+                                           uint64_t seed) {
+  Eigen::Isometry3d shift = Eigen::Isometry3d::Identity();
+  shift.translation().x() = 15.0;
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<size_t> pick(0, 39);
+  std::vector<PoseGraphEdge> edges;
+  for (size_t i = 0; i < count; ++i) {
+    PoseGraphEdge e;
+    e.kind = PoseGraphEdge::Kind::kLoopClosure;
+    const size_t ka = pick(rng), kb = pick(rng);
+    e.from = keyframeId(a, ka);
+    e.to = keyframeId(b, kb);
+    e.T_from_to = t.truth.at(a)[ka].inverse() * shift * t.truth.at(b)[kb];
+    edges.push_back(e);
+  }
+  return edges;
+}
+
+// A wrong early alignment (the look-alike cluster was the largest) is replaced once the loop
+// closures found since say otherwise and the optimized result, which started from the wrong
+// alignment and stayed there, is more than 10 m from the new estimate.
+TEST(InitialAlignment, ReplacesAWrongEarlyAlignment) {
+  const Team t = team(2);
+  const RobotId a(0), b(1);
+  InitialAlignment alignment;
+  std::vector<PoseGraphEdge> edges = shiftedClosures(t, a, b, 8, 7);
+  const auto early_good = closures(t, a, b, 3, 0, 8);
+  edges.insert(edges.end(), early_good.begin(), early_good.end());
+  alignment.update(t.frontend, edges, a);
+  const Eigen::Isometry3d expected = t.T_global_robot.at(a).inverse() * t.T_global_robot.at(b);
+  const Eigen::Isometry3d wrong = alignment.aligned().at(b).T_global_robot;
+  ASSERT_GT((wrong.translation() - expected.translation()).norm(), 10.0);
+  // The optimization kept the wrong frame; by now the right loop closures are the majority.
+  const auto later_good = closures(t, a, b, 20, 0, 9);
+  edges.insert(edges.end(), later_good.begin(), later_good.end());
+  alignment.update(t.frontend, edges, a, {{b, wrong}});
+  EXPECT_EQ(alignment.realignments(), 1u);
+  EXPECT_LT(
+      (alignment.aligned().at(b).T_global_robot.translation() - expected.translation()).norm(),
+      0.1);
+}
+
 }  // namespace
 }  // namespace hydra_multi

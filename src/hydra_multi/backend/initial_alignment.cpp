@@ -42,14 +42,17 @@ const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
     if (!result.T_world_robot[i]) continue;
     auto known = aligned_.find(robot);
     if (known != aligned_.end() && !options_.always_realign) {
-      // Keep an alignment unless the optimized result moved the robot's start far from it.
+      // Keep an alignment unless this round's estimate (from every loop closure so far) puts
+      // the robot's start far from where the optimized result has it. (Comparing the kept
+      // alignment instead would never catch a wrong early one: the optimization starts from it
+      // and stays there, GNC rejecting the loop closures that contradict it.)
       ++known->second.rounds_aligned;
       const auto optimized = optimized_first_keyframes.find(robot);
       const auto first = first_keyframe.find(robot);
       if (optimized == optimized_first_keyframes.end() || first == first_keyframe.end()) continue;
-      const Eigen::Vector3d by_alignment =
-          (known->second.T_global_robot * poses[first->second.second]).translation();
-      if ((by_alignment - optimized->second.translation()).norm() <= options_.realign_threshold_m)
+      const Eigen::Vector3d by_estimate =
+          (*result.T_world_robot[i] * poses[first->second.second]).translation();
+      if ((by_estimate - optimized->second.translation()).norm() <= options_.realign_threshold_m)
         continue;
       ++realignments_;
     }

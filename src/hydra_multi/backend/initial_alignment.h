@@ -4,9 +4,10 @@
 // robust pose averaging per robot pair (at least k = 5 inliers) and a spanning tree over the
 // robots that prefers the pairs with more inliers (optim/multi_robot_alignment.h).
 //
-// Online, a robot once aligned keeps its alignment: it is recomputed only when the backend's
-// optimized result disagrees with it by more than realign_threshold_m (the pose of the robot's
-// first keyframe after optimization against the one its alignment gives). A robot not aligned
+// Online, a robot once aligned keeps its alignment: it is replaced only when this round's
+// estimate, from every loop closure so far, disagrees with the backend's optimized result by more
+// than realign_threshold_m (the pose of the robot's first keyframe after optimization against the
+// one the estimate gives). A robot not aligned
 // yet stays in its own frame and takes no part in merging.
 
 #include <map>
