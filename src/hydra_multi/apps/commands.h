@@ -81,7 +81,8 @@ int runDatasetGraph(const DatasetGraphOptions& options);
 struct DetectOptions {
   std::string dataset;
   bool json = false;
-  bool quiet = false;  ///< no progress lines on stderr
+  bool quiet = false;             ///< no progress lines on stderr
+  std::string loop_closures_csv;  ///< every detected loop closure, checked against the truth
 };
 int runDetect(const DetectOptions& options);
 

@@ -152,6 +152,9 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingDirectory);
   detect_cmd->add_flag("--json", detect.json, "print exactly one JSON object on stdout");
   detect_cmd->add_flag("--quiet", detect.quiet, "no progress lines on stderr");
+  detect_cmd->add_option("--loop-closures", detect.loop_closures_csv,
+                         "write every detected loop closure to this CSV file, with its error "
+                         "against the ground truth");
 
   RunOptions run;
   CLI::App* run_cmd = app.add_subcommand(
