@@ -172,6 +172,41 @@ TEST(BuildingGenerator, IdenticalRoomsForAliasing) {
                 varied.room(varied.objects[first.size()].room).footprint.center().x());
 }
 
+// Kitchens at drawn slots: as many as asked on every floor, not at a fixed period, the same for
+// the same seed, and the other rooms still identical to each other.
+TEST(BuildingGenerator, RandomKitchensBreakThePeriod) {
+  BuildingOptions options;
+  options.room_kind = RoomKind::kStudentRoom;
+  options.identical_rooms = true;
+  options.rooms_per_side = 12;
+  options.random_kitchens = 3;
+  const auto kitchenSlots = [](const World& world) {
+    std::vector<double> x;
+    for (const Room& room : world.rooms) {
+      if (room.kind == RoomKind::kKitchen) x.push_back(room.footprint.center().x());
+    }
+    return x;
+  };
+  const World world = generate(options);
+  const std::vector<double> slots = kitchenSlots(world);
+  EXPECT_EQ(slots, kitchenSlots(generate(options)));
+  ASSERT_EQ(slots.size(), 3u);
+  size_t students = 0;
+  for (const Room& room : world.rooms) students += room.kind == RoomKind::kStudentRoom;
+  EXPECT_EQ(students, 24u - 3u);
+  options.seed = 2;
+  EXPECT_NE(slots, kitchenSlots(generate(options)));
+  // Without them, no random draw: the building is the one it always was.
+  options.random_kitchens = 0;
+  options.seed = 1;
+  const World plain = generate(options);
+  EXPECT_TRUE(kitchenSlots(plain).empty());
+  options.random_kitchens = 13;
+  auto bad = generateBuilding(options);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error(), "building: random_kitchens must be 0 to rooms_per_side");
+}
+
 TEST(BuildingGenerator, FloorsStackAndOptionsAreChecked) {
   BuildingOptions options;
   options.floors = 3;

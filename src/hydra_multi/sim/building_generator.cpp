@@ -1,8 +1,10 @@
 #include "hydra_multi/sim/building_generator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
+#include <set>
 
 namespace hydra_multi::sim {
 namespace {
@@ -122,6 +124,8 @@ Status BuildingOptions::validate() const {
   if (room_kind == RoomKind::kStairwell || room_kind == RoomKind::kOpenSpace)
     return Error{"room_kind must be office, student room or kitchen"};
   if (kitchen_every < 0) return Error{"kitchen_every must be >= 0"};
+  if (random_kitchens < 0 || random_kitchens > rooms_per_side)
+    return Error{"random_kitchens must be 0 to rooms_per_side"};
   if (open_spaces < 0 || open_spaces > rooms_per_side)
     return Error{"open_spaces must be 0 to rooms_per_side"};
   if (!(far_side_depth == 0.0 || (far_side_depth >= 2.5 && far_side_depth <= 40)))
@@ -157,10 +161,26 @@ Result<World> generateBuilding(const BuildingOptions& options) {
       RoomKind kind;
     };
     std::vector<Slot> slots;
+    // Kitchens at drawn slots: numbers 0..rooms_per_side-1 lie on the near side, the rest on the
+    // far side (the stairwell's slot excluded).
+    // (No draw without them: the other presets' buildings stay as they were.)
+    std::set<int> drawn_kitchens;
+    if (options.random_kitchens > 0) {
+      std::vector<int> numbers;
+      for (int n = 0; n < 2 * options.rooms_per_side; ++n) {
+        const bool stairwell = options.floors > 1 && n == options.rooms_per_side - 1;
+        const bool far_open = options.open_spaces > 0 && n >= options.rooms_per_side;
+        if (!stairwell && !far_open) numbers.push_back(n);
+      }
+      std::shuffle(numbers.begin(), numbers.end(), rng);
+      for (int k = 0; k < options.random_kitchens && k < static_cast<int>(numbers.size()); ++k)
+        drawn_kitchens.insert(numbers[k]);
+    }
     for (int i = 0; i < options.rooms_per_side; ++i) {
       const bool stairwell = options.floors > 1 && i == options.rooms_per_side - 1;
       const bool kitchen =
-          options.kitchen_every > 0 && i % options.kitchen_every == options.kitchen_every - 1;
+          (options.kitchen_every > 0 && i % options.kitchen_every == options.kitchen_every - 1) ||
+          drawn_kitchens.count(i) > 0;
       slots.push_back({0, i * (w + t), w,
                        stairwell ? RoomKind::kStairwell
                        : kitchen ? RoomKind::kKitchen
@@ -173,8 +193,9 @@ Result<World> generateBuilding(const BuildingOptions& options) {
     } else {
       for (int i = 0; i < options.rooms_per_side; ++i) {
         const int number = options.rooms_per_side + i;
-        const bool kitchen = options.kitchen_every > 0 &&
-                             number % options.kitchen_every == options.kitchen_every - 1;
+        const bool kitchen = (options.kitchen_every > 0 &&
+                              number % options.kitchen_every == options.kitchen_every - 1) ||
+                             drawn_kitchens.count(number) > 0;
         slots.push_back({1, i * (w + t), w, kitchen ? RoomKind::kKitchen : options.room_kind});
       }
     }

@@ -29,6 +29,9 @@ struct BuildingOptions {
   double far_side_depth = 0.0;
   /// Every n-th room (n > 0) is a kitchen instead; 0: none.
   int kitchen_every = 0;
+  /// This many further rooms per floor, at slots drawn from the seed, are kitchens (the common
+  /// rooms of a dormitory floor, which sit where the plan puts them, not at a fixed period).
+  int random_kitchens = 0;
   /// One furniture layout for all rooms of the same kind (aliasing, like identical student rooms).
   bool identical_rooms = false;
   uint64_t seed = 1;

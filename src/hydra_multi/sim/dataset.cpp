@@ -196,6 +196,7 @@ json parametersJson(const SimulationConfig& c) {
         {"open_spaces", b.open_spaces},
         {"far_side_depth_m", b.far_side_depth},
         {"kitchen_every", b.kitchen_every},
+        {"random_kitchens", b.random_kitchens},
         {"identical_rooms", b.identical_rooms}}},
       {"free_space",
        {{"resolution_m", c.free_space.resolution},

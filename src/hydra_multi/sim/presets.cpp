@@ -59,6 +59,7 @@ Result<SimulationConfig> presetConfig(const std::string& name, uint64_t seed,
     b.room_depth = 4.5;
     b.room_kind = RoomKind::kStudentRoom;
     b.identical_rooms = true;
+    b.random_kitchens = 3;
     c.plan = name == "dorm-2" ? TeamPlan::kOverlapping : TeamPlan::kMeet;
     c.coverage = 0.8;
     c.object_threshold_m = 2.0;
