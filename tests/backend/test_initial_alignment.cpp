@@ -171,5 +171,30 @@ TEST(InitialAlignment, ReplacesAWrongEarlyAlignment) {
       0.1);
 }
 
+// Support per loop closure: 6 right ones, two of them distinctive, against 10 look-alikes that
+// agree on a wrong frame. Weighed, the right frame wins; by count (weigh_support off), the wrong.
+TEST(InitialAlignment, WeighsLoopClosuresBySupport) {
+  const Team t = team(2);
+  const RobotId a(0), b(1);
+  std::vector<PoseGraphEdge> edges = shiftedClosures(t, a, b, 10, 10);
+  std::vector<double> support(edges.size(), 0.0);
+  const auto good = closures(t, a, b, 6, 0, 11);
+  edges.insert(edges.end(), good.begin(), good.end());
+  for (size_t i = 0; i < good.size(); ++i) support.push_back(i < 2 ? 3.0 : 0.0);
+  const Eigen::Isometry3d expected = t.T_global_robot.at(a).inverse() * t.T_global_robot.at(b);
+  InitialAlignment weighed;
+  weighed.update(t.frontend, edges, a, {}, support);
+  ASSERT_TRUE(weighed.isAligned(b));
+  EXPECT_LT((weighed.aligned().at(b).T_global_robot.translation() - expected.translation()).norm(),
+            0.1);
+  InitialAlignmentOptions by_count;
+  by_count.weigh_support = false;
+  InitialAlignment counted(by_count);
+  counted.update(t.frontend, edges, a, {}, support);
+  ASSERT_TRUE(counted.isAligned(b));
+  EXPECT_GT((counted.aligned().at(b).T_global_robot.translation() - expected.translation()).norm(),
+            10.0);
+}
+
 }  // namespace
 }  // namespace hydra_multi

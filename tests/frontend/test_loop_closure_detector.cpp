@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "hydra_multi/frontend/loop_closure_detector.h"
 #include "hydra_multi/sim/dataset.h"
 
@@ -55,6 +57,44 @@ TEST(LoopClosureDetector, FindsTrueInterRobotClosuresOnTiny) {
   }
   EXPECT_GE(inter, 10u);
   EXPECT_GE(double(correct), 0.8 * double(inter));
+  // Every verified match holds some information; the support per inter-robot closure is what
+  // lies beyond its layer's typical match, so some have none and some have more.
+  const std::vector<double> support = interRobotSupport(detector.loopClosures());
+  ASSERT_EQ(support.size(), inter);
+  for (const DetectedLoopClosure& c : detector.loopClosures()) EXPECT_GT(c.distinctiveness, 0.0);
+  EXPECT_GT(std::count(support.begin(), support.end(), 0.0), 0);
+  EXPECT_GT(*std::max_element(support.begin(), support.end()), 0.0);
+}
+
+DetectedLoopClosure closure(uint8_t robot_a, uint8_t robot_b, DetectedLoopClosure::Source source,
+                            size_t inliers, double distinctiveness) {
+  DetectedLoopClosure c;
+  c.robot_a = RobotId(robot_a);
+  c.robot_b = RobotId(robot_b);
+  c.source = source;
+  c.inliers = inliers;
+  c.distinctiveness = distinctiveness;
+  return c;
+}
+
+// Support: distinctiveness beyond the median per inlier of the closure's own layer, times its
+// inliers; never below zero; intra-robot closures neither count in the median nor get a support.
+TEST(LoopClosureDetector, InterRobotSupportIsDistinctivenessBeyondTheTypicalMatch) {
+  using S = DetectedLoopClosure::Source;
+  const std::vector<DetectedLoopClosure> closures = {
+      closure(0, 1, S::kObjects, 10, 20.0),  // 2.0 per inlier
+      closure(0, 1, S::kObjects, 5, 15.0),   // 3.0; the median of 2, 3 and 1 is 2
+      closure(0, 0, S::kObjects, 5, 500.0),  // intra-robot: skipped
+      closure(1, 0, S::kObjects, 4, 4.0),    // 1.0
+      closure(0, 1, S::kVisual, 20, 30.0),   // 1.5 per inlier, the only visual one
+  };
+  const std::vector<double> support = interRobotSupport(closures);
+  ASSERT_EQ(support.size(), 4u);
+  EXPECT_DOUBLE_EQ(support[0], 0.0);         // 20 - 2 * 10
+  EXPECT_DOUBLE_EQ(support[1], 15.0 - 10.0);  // 15 - 2 * 5
+  EXPECT_DOUBLE_EQ(support[2], 0.0);         // 4 - 2 * 4 < 0
+  EXPECT_DOUBLE_EQ(support[3], 0.0);         // the median itself
+  EXPECT_TRUE(interRobotSupport({}).empty());
 }
 
 }  // namespace

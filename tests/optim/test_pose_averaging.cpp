@@ -46,6 +46,46 @@ TEST(PoseAveraging, ConsensusFindsTheLargestClusterAmongManyWrongOnes) {
   EXPECT_EQ(average.gnc.stop_reason, "consensus");
 }
 
+// Weighted consensus: a larger wrong cluster of look-alike matches (support 0) loses to a smaller
+// right one whose few distinctive members carry support; without support, or with every support
+// zero, the count decides again. A support per estimate is required.
+TEST(PoseAveraging, SupportOutweighsCount) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  const auto jitter = [&](const Eigen::Isometry3d& T) {
+    Vector6d xi;
+    xi << 0.1 * noise(rng), 0.1 * noise(rng), 0.0, 0.0, 0.0, 0.01 * noise(rng);
+    return T * expSE3(xi);
+  };
+  const Eigen::Isometry3d truth = pose(5.0, 2.0, -0.3), wrong = pose(3.4, 0.0, 0.0) * truth;
+  std::vector<Eigen::Isometry3d> estimates;
+  std::vector<double> support;
+  for (int i = 0; i < 8; ++i) {
+    estimates.push_back(jitter(truth));
+    support.push_back(i < 3 ? 2.5 : 0.0);  // three matches held a kitchen's objects
+  }
+  for (int i = 0; i < 14; ++i) {
+    estimates.push_back(jitter(wrong));
+    support.push_back(i == 0 ? 1.0 : 0.0);
+  }
+  PoseAveragingOptions options;
+  options.information.setZero();
+  options.information.diagonal() << 4.0, 4.0, 4.0, 400.0, 400.0, 400.0;
+  options.consensus = true;
+  const PoseAverage weighted = robustPoseAverage(estimates, options, support).value();
+  EXPECT_LT((weighted.T.translation() - truth.translation()).norm(), 0.15);
+  EXPECT_EQ(weighted.num_inliers, 8u);
+  const PoseAverage counted = robustPoseAverage(estimates, options).value();
+  EXPECT_LT((counted.T.translation() - wrong.translation()).norm(), 0.15);
+  EXPECT_EQ(counted.num_inliers, 14u);
+  const PoseAverage zeros =
+      robustPoseAverage(estimates, options, std::vector<double>(estimates.size(), 0.0)).value();
+  EXPECT_EQ(zeros.num_inliers, 14u);
+  const auto mismatched = robustPoseAverage(estimates, options, {1.0, 2.0});
+  ASSERT_FALSE(mismatched.ok());
+  EXPECT_EQ(mismatched.error(), "pose averaging: 2 supports for 22 estimates");
+}
+
 // A square loop of 8 poses with exact odometry; one right and one wrong loop closure, both held
 // out of GNC: the right one fits the result and comes back, the wrong one stays out.
 TEST(RobustPoseGraph, HeldOutFactorsComeBackOnlyWhenTheyFit) {

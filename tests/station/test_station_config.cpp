@@ -11,7 +11,8 @@ namespace {
 TEST(StationConfig, KeysSetOptions) {
   StationOptions options;
   const Status s = applyStationConfig(R"({
-      "alignment": {"min_inliers": 7, "sigma_translation_m": 0.25, "realign_threshold_m": 4},
+      "alignment": {"min_inliers": 7, "sigma_translation_m": 0.25, "realign_threshold_m": 4,
+                    "weigh_support": false},
       "deformation": {"two_stage": false, "final_iterations": 0, "mesh_variance": 0.001,
                       "gnc_mu_step": 2.0},
       "reconciliation": {"enabled": false, "place_max_distance": 0.6},
@@ -22,6 +23,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_DOUBLE_EQ(options.backend.alignment.alignment.averaging.information(0, 0), 16.0);
   EXPECT_DOUBLE_EQ(options.backend.alignment.alignment.averaging.information(3, 3), 400.0);
   EXPECT_DOUBLE_EQ(options.backend.alignment.realign_threshold_m, 4.0);
+  EXPECT_FALSE(options.backend.alignment.weigh_support);
   EXPECT_FALSE(options.backend.deformation.two_stage);
   EXPECT_EQ(options.backend.deformation.final_iterations, 0);
   EXPECT_DOUBLE_EQ(options.backend.deformation.mesh_variance, 0.001);

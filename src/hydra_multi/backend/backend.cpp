@@ -45,7 +45,8 @@ std::map<NodeId, Eigen::Vector3d> optimizedPositions(
 
 BackendRoundReport Backend::round(const SceneGraph& frontend,
                                   const std::vector<BackendRobot>& robots,
-                                  const std::vector<PoseGraphEdge>& inter_robot, RobotId root) {
+                                  const std::vector<PoseGraphEdge>& inter_robot, RobotId root,
+                                  const std::vector<double>& support) {
   const auto start = std::chrono::steady_clock::now();
   auto lap_start = start;
   const auto lap = [&lap_start] {
@@ -68,7 +69,8 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   } else if (!options_.initial_alignment) {
     for (const BackendRobot& robot : robots) aligned_[robot.robot];
   } else {
-    aligned_ = alignment_.update(frontend, inter_robot, root, optimized_first_keyframes_);
+    aligned_ =
+        alignment_.update(frontend, inter_robot, root, optimized_first_keyframes_, support);
   }
   const auto& aligned = aligned_;
   report.robots_aligned = aligned.size();

@@ -97,8 +97,11 @@ class Backend {
           return a;
         }()) {}
 
+  /// `support`: one weight per inter-robot loop closure for the alignment's consensus (empty:
+  /// by count).
   BackendRoundReport round(const SceneGraph& frontend, const std::vector<BackendRobot>& robots,
-                           const std::vector<PoseGraphEdge>& inter_robot, RobotId root);
+                           const std::vector<PoseGraphEdge>& inter_robot, RobotId root,
+                           const std::vector<double>& support = {});
 
   const SceneGraph& graph() const { return graph_; }
   const InitialAlignment& alignment() const { return alignment_; }

@@ -4,7 +4,8 @@ namespace hydra_multi {
 
 const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
     const SceneGraph& frontend, const std::vector<PoseGraphEdge>& inter_robot, RobotId root,
-    const std::map<RobotId, Eigen::Isometry3d>& optimized_first_keyframes) {
+    const std::map<RobotId, Eigen::Isometry3d>& optimized_first_keyframes,
+    const std::vector<double>& support) {
   // Robots in a dense order, the root first.
   std::vector<RobotId> robots = {root};
   for (const RobotId r : frontend.robots()) {
@@ -26,12 +27,17 @@ const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
     if (it == first_keyframe.end() || t < it->second.first) first_keyframe[*robot] = {t, id};
   }
   std::vector<PoseGraphEdge> edges;
-  for (const PoseGraphEdge& e : inter_robot) {
-    if (poses.count(e.from) && poses.count(e.to) && robot_of[e.from] != robot_of[e.to])
+  std::vector<double> edge_support;
+  const bool weigh = options_.weigh_support && support.size() == inter_robot.size();
+  for (size_t k = 0; k < inter_robot.size(); ++k) {
+    const PoseGraphEdge& e = inter_robot[k];
+    if (poses.count(e.from) && poses.count(e.to) && robot_of[e.from] != robot_of[e.to]) {
       edges.push_back(e);
+      if (weigh) edge_support.push_back(support[k]);
+    }
   }
-  const MultiRobotAlignment result =
-      alignRobotFrames(robots.size(), poses, robot_of, edges, 0, options_.alignment);
+  const MultiRobotAlignment result = alignRobotFrames(robots.size(), poses, robot_of, edges, 0,
+                                                      options_.alignment, edge_support);
   pairs_ = result.pairs;
   edge_inliers_.clear();
   for (size_t k = 0; k < edges.size(); ++k)

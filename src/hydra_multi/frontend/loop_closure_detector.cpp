@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 namespace hydra_multi {
 namespace {
@@ -13,6 +14,25 @@ constexpr size_t kMaxPairsPerWord = 4;
 
 const char* loopClosureSourceName(DetectedLoopClosure::Source source) {
   return source == DetectedLoopClosure::Source::kObjects ? "objects" : "visual";
+}
+
+std::vector<double> interRobotSupport(const std::vector<DetectedLoopClosure>& closures) {
+  std::map<DetectedLoopClosure::Source, std::vector<double>> per_inlier;
+  for (const DetectedLoopClosure& c : closures) {
+    if (c.interRobot() && c.inliers > 0)
+      per_inlier[c.source].push_back(c.distinctiveness / double(c.inliers));
+  }
+  std::map<DetectedLoopClosure::Source, double> median;
+  for (auto& [source, values] : per_inlier) {
+    std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+    median[source] = values[values.size() / 2];
+  }
+  std::vector<double> support;
+  for (const DetectedLoopClosure& c : closures) {
+    if (!c.interRobot()) continue;
+    support.push_back(std::max(0.0, c.distinctiveness - median[c.source] * double(c.inliers)));
+  }
+  return support;
 }
 
 LoopClosureDetector::LoopClosureDetector(LoopClosureOptions options) : options_(options) {}
@@ -55,6 +75,11 @@ std::vector<DetectedLoopClosure> LoopClosureDetector::run(const SceneGraphProces
     if (auto closure = match(processor, entry)) {
       found.push_back(*closure);
       found_.push_back(*closure);
+    }
+    if (visual != nullptr) {
+      std::set<uint32_t> words;
+      for (const BowEntry& b : visual->bow) words.insert(b.word);
+      for (const uint32_t w : words) ++word_keyframes_[w];
     }
     described_.push_back(std::move(entry));
   }
@@ -117,6 +142,7 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::verifyObjects(
   const SceneGraph& graph = processor.graph();
   // Every same-label pair is a putative correspondence (query's robot frame -> candidate's).
   std::vector<Eigen::Vector3d> source, target;
+  std::vector<uint32_t> labels;
   // (Objects the robots have deleted since the keyframes were described are skipped.)
   for (const NodeId q : query.d.objects) {
     const Node* a = graph.findNode(q);
@@ -126,6 +152,7 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::verifyObjects(
       if (b == nullptr || a->semantic()->label != b->semantic()->label) continue;
       source.push_back(a->position);
       target.push_back(b->position);
+      labels.push_back(a->semantic()->label);
       if (source.size() >= kMaxObjectPairs) break;
     }
     if (source.size() >= kMaxObjectPairs) break;
@@ -144,6 +171,18 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::verifyObjects(
                                                  std::pow(options_.object_rotation_sigma, 2));
   closure.source = DetectedLoopClosure::Source::kObjects;
   closure.inliers = registration.value().inliers.size();
+  std::map<uint32_t, size_t> label_objects;
+  size_t objects = 0;
+  for (const NodeId id : graph.nodesInLayer(Layer::kObjects)) {
+    if (const auto* semantic = graph.getNode(id).semantic()) {
+      ++label_objects[semantic->label];
+      ++objects;
+    }
+  }
+  for (const size_t i : registration.value().inliers) {
+    closure.distinctiveness +=
+        std::log(double(objects) / double(std::max<size_t>(1, label_objects[labels[i]])));
+  }
   return closure;
 }
 
@@ -159,12 +198,14 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::verifyVisual(
   std::multimap<uint32_t, const Keypoint*> by_word;
   for (const Keypoint& k : cd->second.keypoints) by_word.emplace(k.word, &k);
   std::vector<Eigen::Vector3d> source, target;
+  std::vector<uint32_t> words;
   for (const Keypoint& k : qd->second.keypoints) {
     const auto [first, last] = by_word.equal_range(k.word);
     size_t n = 0;
     for (auto it = first; it != last && n < kMaxPairsPerWord; ++it, ++n) {
       source.push_back(k.position.cast<double>());
       target.push_back(it->second->position.cast<double>());
+      words.push_back(k.word);
     }
   }
   RansacOptions ransac = options_.visual;
@@ -181,6 +222,11 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::verifyVisual(
                                                  std::pow(options_.visual_rotation_sigma, 2));
   closure.source = DetectedLoopClosure::Source::kVisual;
   closure.inliers = registration.value().inliers.size();
+  for (const size_t i : registration.value().inliers) {
+    const auto it = word_keyframes_.find(words[i]);
+    const size_t n = it == word_keyframes_.end() ? 1 : std::max<size_t>(1, it->second);
+    closure.distinctiveness += std::log(double(std::max(n, described_.size())) / double(n));
+  }
   return closure;
 }
 

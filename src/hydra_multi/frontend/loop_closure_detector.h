@@ -15,7 +15,9 @@
 //              at least visual_min_inliers inliers.
 // A loop closure holds both keyframes (station ids), the relative pose T_a_b of keyframe b in
 // keyframe a's body frame, an information matrix per verifying layer, the inlier count and the
-// score. Robots without objects (a lidar robot) are matched by places and bag of words only.
+// score, and its distinctiveness (how rare the matched labels or words are, for the alignment's
+// weighed consensus). Robots without objects (a lidar robot) are matched by places and bag of
+// words only.
 
 #include <map>
 #include <set>
@@ -58,9 +60,21 @@ struct DetectedLoopClosure {
   Source source = Source::kVisual;
   size_t inliers = 0;
   double score = 0.0;  ///< of the layer that ranked the pair
+  /// How rare what matched is: the sum over the inlier correspondences of log(N / n), n of N
+  /// objects sharing the pair's label (objects) or of N described keyframes holding the pair's
+  /// word (visual). Look-alike rooms match on common labels and words; a match that holds a
+  /// kitchen's fridge or its words is worth more.
+  double distinctiveness = 0.0;
   bool interRobot() const { return robot_a != robot_b; }
 };
 const char* loopClosureSourceName(DetectedLoopClosure::Source source);
+
+/// What each inter-robot closure of `closures` (in order, the others skipped) is worth to the
+/// alignment's consensus: its distinctiveness beyond that of a typical match of its layer,
+/// max(0, d - m * inliers) with m the median distinctiveness per inlier over the layer's
+/// inter-robot closures. In look-alike rooms the typical match is between two look-alikes, on
+/// common labels and words; what is left marks the matches of the few places that differ.
+std::vector<double> interRobotSupport(const std::vector<DetectedLoopClosure>& closures);
 
 class LoopClosureDetector {
  public:
@@ -94,6 +108,7 @@ class LoopClosureDetector {
   LoopClosureOptions options_;
   std::vector<Entry> described_;
   std::vector<NodeId> pending_;  ///< keyframes not described yet, in arrival order
+  std::map<uint32_t, size_t> word_keyframes_;  ///< described keyframes holding each word
   std::vector<DetectedLoopClosure> found_;
 };
 

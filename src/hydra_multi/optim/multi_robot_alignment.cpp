@@ -14,7 +14,8 @@ MultiRobotAlignment alignRobotFrames(size_t num_robots,
                                      const std::map<NodeId, Eigen::Isometry3d>& local_poses,
                                      const std::unordered_map<NodeId, size_t>& robot_of,
                                      const std::vector<PoseGraphEdge>& inter_robot_edges,
-                                     size_t root, const MultiRobotAlignmentOptions& options) {
+                                     size_t root, const MultiRobotAlignmentOptions& options,
+                                     const std::vector<double>& edge_support) {
   MultiRobotAlignment result;
   result.T_world_robot.resize(num_robots);
   result.edge_inlier.assign(inter_robot_edges.size(), false);
@@ -23,6 +24,7 @@ MultiRobotAlignment alignRobotFrames(size_t num_robots,
   struct PairEstimates {
     std::vector<Eigen::Isometry3d> estimates;
     std::vector<size_t> edges;
+    std::vector<double> support;
   };
   std::map<std::pair<size_t, size_t>, PairEstimates> by_pair;
   for (size_t k = 0; k < inter_robot_edges.size(); ++k) {
@@ -43,10 +45,12 @@ MultiRobotAlignment alignRobotFrames(size_t num_robots,
     PairEstimates& pair = by_pair[{a, b}];
     pair.estimates.push_back(T_A_B);
     pair.edges.push_back(k);
+    pair.support.push_back(k < edge_support.size() ? edge_support[k] : 1.0);
   }
   // eq. (2) per pair.
   for (const auto& [key, pair] : by_pair) {
-    auto average = robustPoseAverage(pair.estimates, options.averaging);
+    auto average = robustPoseAverage(pair.estimates, options.averaging,
+                                     edge_support.empty() ? std::vector<double>() : pair.support);
     if (!average) continue;
     RobotPairAlignment alignment;
     alignment.robot_a = key.first;

@@ -47,12 +47,14 @@ struct MultiRobotAlignment {
 
 /// `local_poses`: every node's pose in its own robot's frame; `robot_of`: every node's robot
 /// (0..num_robots-1); `inter_robot_edges`: loop closures whose ends belong to different robots.
-/// The root robot defines the global frame.
+/// The root robot defines the global frame. `edge_support` (empty: 1 each) weighs each edge in
+/// its pair's maximum consensus (robustPoseAverage).
 MultiRobotAlignment alignRobotFrames(size_t num_robots,
                                      const std::map<NodeId, Eigen::Isometry3d>& local_poses,
                                      const std::unordered_map<NodeId, size_t>& robot_of,
                                      const std::vector<PoseGraphEdge>& inter_robot_edges,
                                      size_t root = 0,
-                                     const MultiRobotAlignmentOptions& options = {});
+                                     const MultiRobotAlignmentOptions& options = {},
+                                     const std::vector<double>& edge_support = {});
 
 }  // namespace hydra_multi

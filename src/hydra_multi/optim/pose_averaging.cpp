@@ -1,5 +1,8 @@
 #include "hydra_multi/optim/pose_averaging.h"
 
+#include <algorithm>
+#include <string>
+
 namespace hydra_multi {
 
 Result<Eigen::Isometry3d> weightedPoseAverage(const std::vector<Eigen::Isometry3d>& estimates,
@@ -22,8 +25,14 @@ Result<Eigen::Isometry3d> weightedPoseAverage(const std::vector<Eigen::Isometry3
 }
 
 Result<PoseAverage> robustPoseAverage(const std::vector<Eigen::Isometry3d>& estimates,
-                                      const PoseAveragingOptions& options) {
+                                      const PoseAveragingOptions& options,
+                                      const std::vector<double>& support) {
   if (estimates.empty()) return Error{"pose averaging: no estimates"};
+  if (!support.empty() && support.size() != estimates.size())
+    return Error{"pose averaging: " + std::to_string(support.size()) + " supports for " +
+                 std::to_string(estimates.size()) + " estimates"};
+  const bool weighted =
+      std::any_of(support.begin(), support.end(), [](double w) { return w > 0.0; });
   PoseAverage average;
   const auto residual = [&](const Eigen::Isometry3d& X, const Eigen::Isometry3d& estimate) {
     const Vector6d e = logSE3(relativePose(X, estimate));
@@ -31,22 +40,27 @@ Result<PoseAverage> robustPoseAverage(const std::vector<Eigen::Isometry3d>& esti
   };
   if (options.consensus) {
     const double c2 = options.gnc.thresholdSq();
-    // The estimate with the most others within the threshold (ties: the smaller spread).
+    // The estimate with the most support within the threshold (ties: the most neighbours, then
+    // the smaller spread).
     size_t best = 0, best_count = 0;
-    double best_spread = 0.0;
+    double best_support = -1.0, best_spread = 0.0;
     for (size_t i = 0; i < estimates.size(); ++i) {
       size_t count = 0;
-      double spread = 0.0;
+      double spread = 0.0, sum = 0.0;
       for (size_t j = 0; j < estimates.size(); ++j) {
         const double r2 = residual(estimates[i], estimates[j]);
         if (r2 <= c2) {
           ++count;
           spread += r2;
+          sum += weighted ? support[j] : 1.0;
         }
       }
-      if (count > best_count || (count == best_count && spread < best_spread)) {
+      if (sum > best_support ||
+          (sum == best_support &&
+           (count > best_count || (count == best_count && spread < best_spread)))) {
         best = i;
         best_count = count;
+        best_support = sum;
         best_spread = spread;
       }
     }

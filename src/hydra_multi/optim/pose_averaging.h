@@ -43,7 +43,11 @@ Result<Eigen::Isometry3d> weightedPoseAverage(const std::vector<Eigen::Isometry3
                                               const Eigen::Isometry3d& start, int max_iterations);
 
 /// eq. (2) with GNC-TLS (or maximum consensus, see options); fails with no estimates.
+/// `support` (maximum consensus only; empty: 1 each) is what each estimate is worth: the start is
+/// the estimate whose neighbours within the threshold have the most support in sum (ties: the
+/// most neighbours, then the smaller spread). Every support zero counts as none given.
 Result<PoseAverage> robustPoseAverage(const std::vector<Eigen::Isometry3d>& estimates,
-                                      const PoseAveragingOptions& options = {});
+                                      const PoseAveragingOptions& options = {},
+                                      const std::vector<double>& support = {});
 
 }  // namespace hydra_multi

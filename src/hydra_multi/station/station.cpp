@@ -20,6 +20,7 @@ struct Snapshot {
   SceneGraph graph;
   std::map<RobotId, RobotFrontendState> robots;
   std::vector<PoseGraphEdge> inter_robot;
+  std::vector<double> support;  ///< per inter-robot edge, for the alignment's consensus
   size_t after_update = 0;
 };
 
@@ -34,8 +35,10 @@ Snapshot takeSnapshot(const SceneGraphProcessor& processor, const LoopClosureDet
       if (options.loop_closure_filter(c, s.graph)) kept.push_back(c);
     }
     s.inter_robot = interRobotEdges(kept);
+    s.support = interRobotSupport(kept);
   } else {
     s.inter_robot = interRobotEdges(detector.loopClosures());
+    s.support = interRobotSupport(detector.loopClosures());
   }
   s.after_update = after_update;
   return s;
@@ -89,7 +92,7 @@ StationResult runStation(const DatasetStreams& input, const StationOptions& opti
     RoundTiming timing;
     timing.round = result.rounds.size();
     timing.after_update = s.after_update;
-    timing.report = backend.round(s.graph, robots, s.inter_robot, root);
+    timing.report = backend.round(s.graph, robots, s.inter_robot, root, s.support);
     result.rounds.push_back(timing);
     log("backend round " + std::to_string(timing.round) + " after update " +
         std::to_string(s.after_update) + ": " + std::to_string(timing.report.robots_aligned) + "/" +
