@@ -90,10 +90,10 @@ TEST(LoopClosureDetector, InterRobotSupportIsDistinctivenessBeyondTheTypicalMatc
   };
   const std::vector<double> support = interRobotSupport(closures);
   ASSERT_EQ(support.size(), 4u);
-  EXPECT_DOUBLE_EQ(support[0], 0.0);         // 20 - 2 * 10
+  EXPECT_DOUBLE_EQ(support[0], 0.0);          // 20 - 2 * 10
   EXPECT_DOUBLE_EQ(support[1], 15.0 - 10.0);  // 15 - 2 * 5
-  EXPECT_DOUBLE_EQ(support[2], 0.0);         // 4 - 2 * 4 < 0
-  EXPECT_DOUBLE_EQ(support[3], 0.0);         // the median itself
+  EXPECT_DOUBLE_EQ(support[2], 0.0);          // 4 - 2 * 4 < 0
+  EXPECT_DOUBLE_EQ(support[3], 0.0);          // the median itself
   EXPECT_TRUE(interRobotSupport({}).empty());
 }
 

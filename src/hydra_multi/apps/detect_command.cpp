@@ -71,7 +71,8 @@ int runDetect(const DetectOptions& o) {
   if (!o.loop_closures_csv.empty()) {
     csv.open(o.loop_closures_csv);
     if (!csv) return fail("cannot write " + o.loop_closures_csv);
-    csv << "robot_a,keyframe_a,stamp_a_s,robot_b,keyframe_b,stamp_b_s,source,inliers,score,distinctiveness,"
+    csv << "robot_a,keyframe_a,stamp_a_s,robot_b,keyframe_b,stamp_b_s,source,inliers,score,"
+           "distinctiveness,"
            "x,y,z,yaw_deg,true_xa,true_ya,true_za,true_xb,true_yb,true_zb,"
            "translation_error_m,rotation_error_deg,correct\n";
     csv << std::setprecision(9);
@@ -88,8 +89,8 @@ int runDetect(const DetectOptions& o) {
       csv << c.robot_a.str() << "," << c.keyframe_a.str() << "," << stamp(c.keyframe_a) * 1e-9
           << "," << c.robot_b.str() << "," << c.keyframe_b.str() << ","
           << stamp(c.keyframe_b) * 1e-9 << "," << loopClosureSourceName(c.source) << ","
-          << c.inliers << "," << c.score << "," << c.distinctiveness << "," << t.x() << "," << t.y() << "," << t.z() << ","
-          << yaw;
+          << c.inliers << "," << c.score << "," << c.distinctiveness << "," << t.x() << "," << t.y()
+          << "," << t.z() << "," << yaw;
       for (const auto& [robot, id] :
            {std::pair{c.robot_a, c.keyframe_a}, {c.robot_b, c.keyframe_b}}) {
         const Eigen::Isometry3d* pose = truth.value().poseAt(robot, stamp(id));

@@ -69,8 +69,7 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   } else if (!options_.initial_alignment) {
     for (const BackendRobot& robot : robots) aligned_[robot.robot];
   } else {
-    aligned_ =
-        alignment_.update(frontend, inter_robot, root, optimized_first_keyframes_, support);
+    aligned_ = alignment_.update(frontend, inter_robot, root, optimized_first_keyframes_, support);
   }
   const auto& aligned = aligned_;
   report.robots_aligned = aligned.size();

@@ -36,8 +36,8 @@ const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
       if (weigh) edge_support.push_back(support[k]);
     }
   }
-  const MultiRobotAlignment result = alignRobotFrames(robots.size(), poses, robot_of, edges, 0,
-                                                      options_.alignment, edge_support);
+  const MultiRobotAlignment result =
+      alignRobotFrames(robots.size(), poses, robot_of, edges, 0, options_.alignment, edge_support);
   pairs_ = result.pairs;
   edge_inliers_.clear();
   for (size_t k = 0; k < edges.size(); ++k)

@@ -51,6 +51,14 @@ std::vector<DetectedLoopClosure> LoopClosureDetector::run(const SceneGraphProces
                                                           bool all) {
   std::vector<DetectedLoopClosure> found;
   const SceneGraph& graph = processor.graph();
+  label_objects_.clear();
+  objects_ = 0;
+  for (const NodeId id : graph.nodesInLayer(Layer::kObjects)) {
+    if (const auto* semantic = graph.getNode(id).semantic()) {
+      ++label_objects_[semantic->label];
+      ++objects_;
+    }
+  }
   std::vector<NodeId> later;
   for (const NodeId id : pending_) {
     const Node* node = graph.findNode(id);
@@ -171,17 +179,10 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::verifyObjects(
                                                  std::pow(options_.object_rotation_sigma, 2));
   closure.source = DetectedLoopClosure::Source::kObjects;
   closure.inliers = registration.value().inliers.size();
-  std::map<uint32_t, size_t> label_objects;
-  size_t objects = 0;
-  for (const NodeId id : graph.nodesInLayer(Layer::kObjects)) {
-    if (const auto* semantic = graph.getNode(id).semantic()) {
-      ++label_objects[semantic->label];
-      ++objects;
-    }
-  }
   for (const size_t i : registration.value().inliers) {
-    closure.distinctiveness +=
-        std::log(double(objects) / double(std::max<size_t>(1, label_objects[labels[i]])));
+    const auto n = label_objects_.find(labels[i]);
+    const size_t count = n == label_objects_.end() ? 1 : std::max<size_t>(1, n->second);
+    closure.distinctiveness += std::log(double(std::max(objects_, count)) / double(count));
   }
   return closure;
 }

@@ -107,8 +107,11 @@ class LoopClosureDetector {
 
   LoopClosureOptions options_;
   std::vector<Entry> described_;
-  std::vector<NodeId> pending_;  ///< keyframes not described yet, in arrival order
+  std::vector<NodeId> pending_;                ///< keyframes not described yet, in arrival order
   std::map<uint32_t, size_t> word_keyframes_;  ///< described keyframes holding each word
+  /// Objects per label in the graph and in all, counted once per run() (the graph is fixed then).
+  std::map<uint32_t, size_t> label_objects_;
+  size_t objects_ = 0;
   std::vector<DetectedLoopClosure> found_;
 };
 

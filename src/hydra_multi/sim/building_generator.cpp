@@ -161,30 +161,33 @@ Result<World> generateBuilding(const BuildingOptions& options) {
       RoomKind kind;
     };
     std::vector<Slot> slots;
-    // Kitchens at drawn slots: numbers 0..rooms_per_side-1 lie on the near side, the rest on the
-    // far side (the stairwell's slot excluded).
-    // (No draw without them: the other presets' buildings stay as they were.)
+    // Room numbers 0..rooms_per_side-1 lie on the near side, the rest on the far side.
+    const auto isStairwell = [&](int n) {
+      return options.floors > 1 && n == options.rooms_per_side - 1;
+    };
+    // Kitchens at drawn slots (the stairwell's excluded). No draw without them: the other
+    // presets' buildings stay as they were.
     std::set<int> drawn_kitchens;
     if (options.random_kitchens > 0) {
       std::vector<int> numbers;
       for (int n = 0; n < 2 * options.rooms_per_side; ++n) {
-        const bool stairwell = options.floors > 1 && n == options.rooms_per_side - 1;
         const bool far_open = options.open_spaces > 0 && n >= options.rooms_per_side;
-        if (!stairwell && !far_open) numbers.push_back(n);
+        if (!isStairwell(n) && !far_open) numbers.push_back(n);
       }
       std::shuffle(numbers.begin(), numbers.end(), rng);
       for (int k = 0; k < options.random_kitchens && k < static_cast<int>(numbers.size()); ++k)
         drawn_kitchens.insert(numbers[k]);
     }
+    const auto isKitchen = [&](int n) {
+      return (options.kitchen_every > 0 &&
+              n % options.kitchen_every == options.kitchen_every - 1) ||
+             drawn_kitchens.count(n) > 0;
+    };
     for (int i = 0; i < options.rooms_per_side; ++i) {
-      const bool stairwell = options.floors > 1 && i == options.rooms_per_side - 1;
-      const bool kitchen =
-          (options.kitchen_every > 0 && i % options.kitchen_every == options.kitchen_every - 1) ||
-          drawn_kitchens.count(i) > 0;
       slots.push_back({0, i * (w + t), w,
-                       stairwell ? RoomKind::kStairwell
-                       : kitchen ? RoomKind::kKitchen
-                                 : options.room_kind});
+                       isStairwell(i) ? RoomKind::kStairwell
+                       : isKitchen(i) ? RoomKind::kKitchen
+                                      : options.room_kind});
     }
     if (options.open_spaces > 0) {
       const double open_width = (length + t) / options.open_spaces - t;
@@ -192,10 +195,7 @@ Result<World> generateBuilding(const BuildingOptions& options) {
         slots.push_back({1, i * (open_width + t), open_width, RoomKind::kOpenSpace});
     } else {
       for (int i = 0; i < options.rooms_per_side; ++i) {
-        const int number = options.rooms_per_side + i;
-        const bool kitchen = (options.kitchen_every > 0 &&
-                              number % options.kitchen_every == options.kitchen_every - 1) ||
-                             drawn_kitchens.count(number) > 0;
+        const bool kitchen = isKitchen(options.rooms_per_side + i);
         slots.push_back({1, i * (w + t), w, kitchen ? RoomKind::kKitchen : options.room_kind});
       }
     }
