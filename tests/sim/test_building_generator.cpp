@@ -173,7 +173,7 @@ TEST(BuildingGenerator, IdenticalRoomsForAliasing) {
 }
 
 // Kitchens at drawn slots: as many as asked on every floor, not at a fixed period, the same for
-// the same seed, and the other rooms still identical to each other.
+// the same seed, each furnished its own way, and the student rooms still identical to each other.
 TEST(BuildingGenerator, RandomKitchensBreakThePeriod) {
   BuildingOptions options;
   options.room_kind = RoomKind::kStudentRoom;
@@ -194,6 +194,24 @@ TEST(BuildingGenerator, RandomKitchensBreakThePeriod) {
   size_t students = 0;
   for (const Room& room : world.rooms) students += room.kind == RoomKind::kStudentRoom;
   EXPECT_EQ(students, 24u - 3u);
+  // Each kitchen its own furniture and texture (no shared layout id), each student room the one.
+  std::map<int, std::vector<std::pair<uint32_t, Eigen::Vector3d>>> kitchen_furniture;
+  for (const Room& room : world.rooms) {
+    if (room.kind == RoomKind::kKitchen) EXPECT_EQ(room.layout, -1);
+    if (room.kind == RoomKind::kStudentRoom) EXPECT_EQ(room.layout, static_cast<int>(RoomKind::kStudentRoom));
+  }
+  for (const ObjectInstance& o : world.objects) {
+    const Room& room = world.room(o.room);
+    if (room.kind == RoomKind::kKitchen)
+      kitchen_furniture[o.room].push_back(
+          {o.label, (roomFrame(world, room).inverse() * o.T_world_object).translation()});
+  }
+  ASSERT_EQ(kitchen_furniture.size(), 3u);
+  const auto& k0 = kitchen_furniture.begin()->second;
+  const auto& k1 = std::next(kitchen_furniture.begin())->second;
+  ASSERT_FALSE(k0.empty());
+  ASSERT_FALSE(k1.empty());
+  EXPECT_GT((k0.front().second - k1.front().second).norm(), 1e-6);
   options.seed = 2;
   EXPECT_NE(slots, kitchenSlots(generate(options)));
   // Without them, no random draw: the building is the one it always was.

@@ -130,7 +130,7 @@ int runRun(const RunOptions& o) {
   // Merges of the last round that joined two different true rooms.
   size_t merges_across_rooms = 0;
   const auto sideOf = [](const AcceptedMerge::Side& s) {
-    return MergeSide{s.robot, s.position, s.keyframe_stamp_ns, s.T_global_keyframe};
+    return MergeSide{s.robot, s.position, s.keyframe_stamp_ns, s.T_robot_keyframe};
   };
   for (const AcceptedMerge& m : result.merges) {
     const MergeCheck check =

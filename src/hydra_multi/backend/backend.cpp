@@ -43,6 +43,32 @@ std::map<NodeId, Eigen::Vector3d> optimizedPositions(
 
 }  // namespace
 
+MergeSideFinder::MergeSideFinder(const SceneGraph& frontend, RobotId robot)
+    : frontend_(frontend), robot_(robot) {
+  std::vector<Eigen::Vector3d> positions;
+  for (const NodeId id : frontend.nodesOfRobot(robot)) {
+    const Node& node = frontend.getNode(id);
+    if (node.layer() != Layer::kAgents || node.find<AgentAttributes>() == nullptr) continue;
+    keyframes_.push_back(&node);
+    positions.push_back(node.position);
+  }
+  near_ = std::make_unique<NearestNeighbors>(positions);
+}
+
+AcceptedMerge::Side MergeSideFinder::side(NodeId id) const {
+  AcceptedMerge::Side s;
+  s.robot = robot_;
+  const Node* node = frontend_.findNode(id);
+  if (node == nullptr) return s;
+  s.position = node->position;
+  const auto nearest = near_->nearest(s.position);
+  if (nearest.empty()) return s;
+  const Node& keyframe = *keyframes_[nearest.front().index];
+  s.keyframe_stamp_ns = keyframe.find<AgentAttributes>()->timestamp_ns;
+  s.T_robot_keyframe = nodePose(keyframe);
+  return s;
+}
+
 BackendRoundReport Backend::round(const SceneGraph& frontend,
                                   const std::vector<BackendRobot>& robots,
                                   const std::vector<PoseGraphEdge>& inter_robot, RobotId root,
@@ -241,29 +267,12 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   report.merges_proposed = candidates.size();
   if (!candidates.empty() &&
       double(kept.size()) >= options_.reconciliation.min_valid_share * double(candidates.size())) {
-    // Each robot's optimized keyframes, for the record of every merge.
-    std::map<RobotId, std::pair<std::vector<Eigen::Vector3d>, std::vector<const Node*>>> keyframes;
-    for (const NodeId id : graph.nodesInLayer(Layer::kAgents)) {
-      const Node& node = graph.getNode(id);
-      if (const auto robot = id.sourceRobot()) {
-        keyframes[*robot].first.push_back(node.position);
-        keyframes[*robot].second.push_back(&node);
-      }
-    }
-    std::map<RobotId, NearestNeighbors> near_keyframe;
-    for (const auto& [robot, list] : keyframes) near_keyframe.emplace(robot, list.first);
+    std::map<RobotId, MergeSideFinder> sides;
     const auto side = [&](NodeId id) {
-      AcceptedMerge::Side s;
-      s.robot = id.sourceRobot().value_or(RobotId(0));
-      s.position = graph.getNode(id).position;
-      const auto index = near_keyframe.find(s.robot);
-      if (index == near_keyframe.end()) return s;
-      const auto nearest = index->second.nearest(s.position);
-      if (nearest.empty()) return s;
-      const Node& keyframe = *keyframes[s.robot].second[nearest.front().index];
-      s.keyframe_stamp_ns = keyframe.find<AgentAttributes>()->timestamp_ns;
-      s.T_global_keyframe = nodePose(keyframe);
-      return s;
+      const RobotId robot = id.sourceRobot().value_or(RobotId(0));
+      auto it = sides.find(robot);
+      if (it == sides.end()) it = sides.emplace(robot, MergeSideFinder(frontend, robot)).first;
+      return it->second.side(id);
     };
     for (const MergeCandidate* c : kept) {
       if (!graph.hasNode(c->target) || !graph.hasNode(c->source)) continue;

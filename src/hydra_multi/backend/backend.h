@@ -19,12 +19,14 @@
 // (dorm-2 seed 1: ATE 8.0 m; with the hold-outs 0.98 m, as with only the correct ones).
 // Robots not aligned yet are left out of the backend graph until they are.
 
+#include <memory>
 #include <vector>
 
 #include "hydra_multi/backend/deformation_graph.h"
 #include "hydra_multi/backend/initial_alignment.h"
 #include "hydra_multi/backend/reconciliation.h"
 #include "hydra_multi/backend/room_segmentation.h"
+#include "hydra_multi/core/nearest_neighbors.h"
 
 namespace hydra_multi {
 
@@ -75,8 +77,10 @@ struct BackendRoundReport {
          rooms_s = 0.0;
 };
 
-/// A merge the backend made, with what evaluation needs to check it: each node's global position
-/// before the merge and the keyframe of its robot nearest to it (stamp, optimized global pose).
+/// A merge the backend made, with what evaluation needs to check it: each node as its robot
+/// mapped it, its position and the robot's keyframe nearest to it (stamp and pose), both in the
+/// robot's own frame. (Not the optimized map's: there a keyframe of another pass, off by the
+/// drift the robot's own loop closures left, can lie nearest, and the check inherits its error.)
 struct AcceptedMerge {
   NodeId target, source;
   Layer layer = Layer::kPlaces;
@@ -84,8 +88,21 @@ struct AcceptedMerge {
     RobotId robot;
     Eigen::Vector3d position = Eigen::Vector3d::Zero();
     int64_t keyframe_stamp_ns = -1;  ///< -1: the robot has no keyframe
-    Eigen::Isometry3d T_global_keyframe = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d T_robot_keyframe = Eigen::Isometry3d::Identity();
   } target_side, source_side;
+};
+
+/// One robot's AcceptedMerge sides from the frontend graph (station ids, the robot's frame).
+class MergeSideFinder {
+ public:
+  MergeSideFinder(const SceneGraph& frontend, RobotId robot);
+  AcceptedMerge::Side side(NodeId id) const;
+
+ private:
+  const SceneGraph& frontend_;
+  RobotId robot_;
+  std::vector<const Node*> keyframes_;
+  std::unique_ptr<NearestNeighbors> near_;
 };
 
 class Backend {

@@ -46,8 +46,8 @@ MergeCheck checkMerge(const DatasetGroundTruth& truth, const MergeSide& a, const
   const Eigen::Isometry3d* world_a = truth.poseAt(a.robot, a.keyframe_stamp_ns);
   const Eigen::Isometry3d* world_b = truth.poseAt(b.robot, b.keyframe_stamp_ns);
   if (world_a == nullptr || world_b == nullptr) return check;
-  const Eigen::Vector3d p = *world_a * (a.T_global_keyframe.inverse() * a.position);
-  const Eigen::Vector3d q = *world_b * (b.T_global_keyframe.inverse() * b.position);
+  const Eigen::Vector3d p = *world_a * (a.T_robot_keyframe.inverse() * a.position);
+  const Eigen::Vector3d q = *world_b * (b.T_robot_keyframe.inverse() * b.position);
   check.checked = true;
   check.true_distance_m = (p - q).norm();
   const auto rooms = roomOfCell(truth);

@@ -48,17 +48,17 @@ LoopClosureCheck checkLoopClosure(const DatasetGroundTruth& truth, RobotId robot
                                   RobotId robot_b, int64_t stamp_b, const Eigen::Isometry3d& T_a_b,
                                   double max_translation_m = 1.0, double max_rotation_deg = 10.0);
 
-/// One side of a merge: the node's global position in a result and the nearest keyframe of the
-/// node's robot (its stamp and global pose in the same result).
+/// One side of a merge: the node's position and a keyframe of the node's robot near it (its stamp
+/// and pose), both in one frame: best the robot's own, as it mapped them (backend.h).
 struct MergeSide {
   RobotId robot;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   int64_t keyframe_stamp_ns = -1;
-  Eigen::Isometry3d T_global_keyframe = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d T_robot_keyframe = Eigen::Isometry3d::Identity();
 };
 
 /// Where two merged nodes truly are: each placed relative to its keyframe's true pose (so the
-/// result's global errors cancel), then their true rooms. A merge is across rooms when both lie
+/// frame's errors cancel), then their true rooms. A merge is across rooms when both lie
 /// in rooms, the rooms differ and the true positions are more than min_distance_m apart (two
 /// sides of a doorway are not two rooms merged).
 struct MergeCheck {

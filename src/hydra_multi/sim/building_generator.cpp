@@ -217,11 +217,12 @@ Result<World> generateBuilding(const BuildingOptions& options) {
       } else {
         world.doors.push_back({corridor.id, room.id, f, {x0 + 0.5 * rw, door_y}, 0.9});
       }
-      // Furniture: sampled per room, or once per kind when rooms are identical.
+      // Furniture: sampled per room, or once for all rooms of the building's kind when rooms
+      // are identical (the student rooms of a dormitory; its kitchens differ from each other).
       std::vector<Placement> layout;
       if (room.kind == RoomKind::kStairwell) {
         // no furniture: the stairs take the room
-      } else if (options.identical_rooms && room.kind != RoomKind::kOpenSpace) {
+      } else if (options.identical_rooms && room.kind == options.room_kind) {
         auto it = shared_layouts.find(room.kind);
         if (it == shared_layouts.end()) {
           it = shared_layouts

@@ -32,7 +32,8 @@ struct BuildingOptions {
   /// This many further rooms per floor, at slots drawn from the seed, are kitchens (the common
   /// rooms of a dormitory floor, which sit where the plan puts them, not at a fixed period).
   int random_kitchens = 0;
-  /// One furniture layout for all rooms of the same kind (aliasing, like identical student rooms).
+  /// One furniture layout and wall texture for all rooms of room_kind (aliasing, like the
+  /// identical student rooms of the paper's dormitory); kitchens and open spaces keep their own.
   bool identical_rooms = false;
   uint64_t seed = 1;
 
