@@ -5,8 +5,9 @@
 //                 3 RGB-D robots exploring different but overlapping parts (uHumans2)
 //   residence-3f  three floors joined by stairs; 2 robots starting on the top and bottom floors,
 //                 both exploring the middle one (SidPac)
-//   dorm-2        a long floor of identical student rooms; 2 robots starting in different rooms,
-//                 going the same way (Simmons 1)
+//   dorm-2        a long floor of identical student rooms and 3 kitchens, each its own, at slots
+//                 drawn from the seed; 2 robots starting in different rooms, going the same way
+//                 (Simmons 1)
 //   dorm-2-meet   the same building, robots starting at opposite ends, meeting in the middle
 //                 (Simmons 2)
 //   hetero-2      dorm-2-meet with robot 1 a lidar robot: no labels, no objects
