@@ -15,8 +15,8 @@
 // Online, a robot once aligned keeps its alignment: it is replaced only when this round's
 // estimate, from every loop closure so far, disagrees with the backend's optimized result by more
 // than realign_threshold_m (the pose of the robot's first keyframe after optimization against the
-// one the estimate gives). A robot not aligned
-// yet stays in its own frame and takes no part in merging.
+// one the estimate gives). A robot not aligned yet stays in its own frame and takes no part in
+// merging.
 
 #include <map>
 #include <optional>

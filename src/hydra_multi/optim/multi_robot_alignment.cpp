@@ -49,8 +49,7 @@ MultiRobotAlignment alignRobotFrames(size_t num_robots,
   }
   // eq. (2) per pair.
   for (const auto& [key, pair] : by_pair) {
-    auto average = robustPoseAverage(pair.estimates, options.averaging,
-                                     edge_support.empty() ? std::vector<double>() : pair.support);
+    auto average = robustPoseAverage(pair.estimates, options.averaging, pair.support);
     if (!average) continue;
     RobotPairAlignment alignment;
     alignment.robot_a = key.first;
