@@ -197,8 +197,12 @@ TEST(BuildingGenerator, RandomKitchensBreakThePeriod) {
   // Each kitchen its own furniture and texture (no shared layout id), each student room the one.
   std::map<int, std::vector<std::pair<uint32_t, Eigen::Vector3d>>> kitchen_furniture;
   for (const Room& room : world.rooms) {
-    if (room.kind == RoomKind::kKitchen) EXPECT_EQ(room.layout, -1);
-    if (room.kind == RoomKind::kStudentRoom) EXPECT_EQ(room.layout, static_cast<int>(RoomKind::kStudentRoom));
+    if (room.kind == RoomKind::kKitchen) {
+      EXPECT_EQ(room.layout, -1);
+    }
+    if (room.kind == RoomKind::kStudentRoom) {
+      EXPECT_EQ(room.layout, static_cast<int>(RoomKind::kStudentRoom));
+    }
   }
   for (const ObjectInstance& o : world.objects) {
     const Room& room = world.room(o.room);
