@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hydra_multi/apps/commands.h"
+#include "hydra_multi/apps/loop_closure_csv.h"
 #include "hydra_multi/eval/dataset_evaluation.h"
 #include "hydra_multi/eval/trajectory_error.h"
 #include "hydra_multi/frontend/loop_closure_detector.h"
@@ -71,11 +72,7 @@ int runDetect(const DetectOptions& o) {
   if (!o.loop_closures_csv.empty()) {
     csv.open(o.loop_closures_csv);
     if (!csv) return fail("cannot write " + o.loop_closures_csv);
-    csv << "robot_a,keyframe_a,stamp_a_s,robot_b,keyframe_b,stamp_b_s,source,inliers,score,"
-           "distinctiveness,"
-           "x,y,z,yaw_deg,true_xa,true_ya,true_za,true_xb,true_yb,true_zb,"
-           "translation_error_m,rotation_error_deg,correct\n";
-    csv << std::setprecision(9);
+    writeLoopClosureCsvHeader(csv, false);
   }
   for (const DetectedLoopClosure& c : detector.loopClosures()) {
     const auto stamp = [&](NodeId id) {
@@ -83,28 +80,9 @@ int runDetect(const DetectOptions& o) {
     };
     const LoopClosureCheck check = checkLoopClosure(truth.value(), c.robot_a, stamp(c.keyframe_a),
                                                     c.robot_b, stamp(c.keyframe_b), c.T_a_b);
-    if (csv.is_open()) {
-      const Eigen::Vector3d t = c.T_a_b.translation();
-      const double yaw = std::atan2(c.T_a_b.linear()(1, 0), c.T_a_b.linear()(0, 0)) * 180.0 / M_PI;
-      csv << c.robot_a.str() << "," << c.keyframe_a.str() << "," << stamp(c.keyframe_a) * 1e-9
-          << "," << c.robot_b.str() << "," << c.keyframe_b.str() << ","
-          << stamp(c.keyframe_b) * 1e-9 << "," << loopClosureSourceName(c.source) << ","
-          << c.inliers << "," << c.score << "," << c.distinctiveness << "," << t.x() << "," << t.y()
-          << "," << t.z() << "," << yaw;
-      for (const auto& [robot, id] :
-           {std::pair{c.robot_a, c.keyframe_a}, {c.robot_b, c.keyframe_b}}) {
-        const Eigen::Isometry3d* pose = truth.value().poseAt(robot, stamp(id));
-        for (int k = 0; k < 3; ++k) {
-          csv << ",";
-          if (pose != nullptr) csv << pose->translation()(k);
-        }
-      }
-      csv << ",";
-      if (check.known) csv << check.translation_error_m;
-      csv << ",";
-      if (check.known) csv << check.rotation_error_deg;
-      csv << "," << (check.correct ? 1 : 0) << "\n";
-    }
+    if (csv.is_open())
+      writeLoopClosureCsvRow(csv, c, stamp(c.keyframe_a), stamp(c.keyframe_b), truth.value(),
+                             check);
     if (c.interRobot()) {
       ++inter;
       inter_correct += check.correct;

@@ -1,7 +1,8 @@
 // `hydra-multi run --dataset DIR --out OUT [--speed X] [--ablation A] [--baseline B]
 // [--config FILE]`: the station over a dataset's streams, online (station/station.h), then the
 // outputs and, read only after the run, the ground truth's verdict: OUT/graph.json,
-// graph.spark.json, mesh.ply, metrics.json, timing.csv.
+// graph.spark.json, mesh.ply, metrics.json, timing.csv, loop_closures.csv (every inter-robot
+// loop closure with the station's verdicts and the truth's).
 //
 // Ablations (paper Table II): no-ia without initial alignment, no-rec without reconciliation.
 // Baselines (paper Table I; evaluation only, never the station's normal mode): gt-align places
@@ -16,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hydra_multi/apps/commands.h"
+#include "hydra_multi/apps/loop_closure_csv.h"
 #include "hydra_multi/apps/score_json.h"
 #include "hydra_multi/dsg/io/graph_file.h"
 #include "hydra_multi/eval/dataset_evaluation.h"
@@ -105,6 +107,8 @@ int runRun(const RunOptions& o) {
   // each how many the ground truth calls correct.
   size_t inter = 0, inter_correct = 0, inliers = 0, correct_inliers = 0;
   size_t alignment_inliers = 0, alignment_correct = 0;
+  std::ofstream closures_csv(out / "loop_closures.csv");
+  writeLoopClosureCsvHeader(closures_csv, true);
   for (const DetectedLoopClosure& c : result.loop_closures) {
     if (!c.interRobot()) continue;
     ++inter;
@@ -113,20 +117,22 @@ int runRun(const RunOptions& o) {
       const auto it = result.keyframe_stamps.find(id);
       return it == result.keyframe_stamps.end() ? -1 : it->second;
     };
-    const bool correct = checkLoopClosure(truth.value(), c.robot_a, stamp(c.keyframe_a), c.robot_b,
-                                          stamp(c.keyframe_b), c.T_a_b)
-                             .correct;
-    inter_correct += correct;
+    const LoopClosureCheck check = checkLoopClosure(truth.value(), c.robot_a, stamp(c.keyframe_a),
+                                                    c.robot_b, stamp(c.keyframe_b), c.T_a_b);
     const auto averaged = result.alignment_inliers.find({c.keyframe_a, c.keyframe_b});
-    if (averaged != result.alignment_inliers.end() && averaged->second) {
-      ++alignment_inliers;
-      alignment_correct += correct;
-    }
     const auto kept = result.inter_robot_inliers.find({c.keyframe_a, c.keyframe_b});
-    if (kept == result.inter_robot_inliers.end() || !kept->second) continue;
-    ++inliers;
-    correct_inliers += correct;
+    LoopClosureVerdict verdict;
+    verdict.alignment_inlier = averaged != result.alignment_inliers.end() && averaged->second;
+    verdict.kept = kept != result.inter_robot_inliers.end() && kept->second;
+    writeLoopClosureCsvRow(closures_csv, c, stamp(c.keyframe_a), stamp(c.keyframe_b), truth.value(),
+                           check, verdict);
+    inter_correct += check.correct;
+    alignment_inliers += verdict.alignment_inlier;
+    alignment_correct += verdict.alignment_inlier && check.correct;
+    inliers += verdict.kept;
+    correct_inliers += verdict.kept && check.correct;
   }
+  if (!closures_csv) return fail("cannot write " + (out / "loop_closures.csv").string());
   // Merges of the last round that joined two different true rooms.
   size_t merges_across_rooms = 0;
   const auto sideOf = [](const AcceptedMerge::Side& s) {
@@ -206,7 +212,8 @@ int runRun(const RunOptions& o) {
             << "  backend per round     median " << backend.median / 1e3 << " s, max "
             << backend.max / 1e3 << " s\n"
             << "outputs in " << o.out
-            << ": graph.json, graph.spark.json, mesh.ply, metrics.json, timing.csv\n";
+            << ": graph.json, graph.spark.json, mesh.ply, metrics.json, timing.csv, "
+               "loop_closures.csv\n";
   return 0;
 }
 
