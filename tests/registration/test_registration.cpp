@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "hydra_multi/core/se3.h"
@@ -150,6 +151,55 @@ TEST(TlsRegistration, FailsClearlyWithoutEnoughInliers) {
   const auto result = tlsRegistration(c.source, c.target, {});
   ASSERT_FALSE(result.ok());
   EXPECT_NE(result.error().find("fewer than 5"), std::string::npos);
+}
+
+// A row of look-alike rooms registers once per room shift: the rival of the true registration is
+// the shift by one room, with the inliers of one room fewer. One room alone has no rival.
+TEST(TlsRegistration, RivalOfALookAlikeRowIsOneRoomOver) {
+  const std::vector<std::pair<uint32_t, Eigen::Vector3d>> room = {
+      {1, {0.4, 0.5, 0.4}}, {2, {2.6, 0.6, 0.8}}, {3, {1.2, 3.7, 0.5}}, {4, {2.9, 3.9, 1.1}}};
+  const double width = 3.4;
+  const Eigen::Isometry3d T = someTransform();  // candidate frame <- query frame
+  const auto registerRooms = [&](int rooms) {
+    std::vector<std::pair<uint32_t, Eigen::Vector3d>> objects;  // in the query's frame
+    for (int r = 0; r < rooms; ++r) {
+      for (const auto& [label, p] : room)
+        objects.push_back({label, p + Eigen::Vector3d(r * width, 0, 0)});
+    }
+    Correspondences c;
+    for (const auto& [label_q, q] : objects) {
+      for (const auto& [label_c, p] : objects) {
+        if (label_q != label_c) continue;
+        c.source.push_back(q);
+        c.target.push_back(T * p);
+      }
+    }
+    return c;
+  };
+  const Correspondences row = registerRooms(5);
+  TlsRegistrationOptions options;
+  const auto best = tlsRegistration(row.source, row.target, options);
+  ASSERT_TRUE(best.ok()) << best.error();
+  EXPECT_EQ(best.value().inliers.size(), 20u);
+  EXPECT_LT((best.value().T_target_source.translation() - T.translation()).norm(), 1e-6);
+  const auto rival = tlsRivalRegistration(row.source, row.target, best.value(), options);
+  ASSERT_TRUE(rival.ok()) << rival.error();
+  EXPECT_EQ(rival.value().inliers.size(), 16u);
+  for (const size_t i : rival.value().inliers) {
+    EXPECT_EQ(std::count(best.value().inliers.begin(), best.value().inliers.end(), i), 0);
+  }
+  const Eigen::Vector3d shift = T.inverse() * rival.value().T_target_source *
+                                Eigen::Vector3d::Zero();  // where the query's origin lands
+  EXPECT_NEAR(std::abs(shift.x()), width, 1e-6);
+  EXPECT_NEAR(shift.y(), 0.0, 1e-6);
+
+  const Correspondences alone = registerRooms(1);
+  const auto one = tlsRegistration(alone.source, alone.target, options);
+  ASSERT_FALSE(one.ok());  // 4 objects: fewer than 5 inliers
+  options.min_inliers = 4;
+  const auto four = tlsRegistration(alone.source, alone.target, options);
+  ASSERT_TRUE(four.ok()) << four.error();
+  EXPECT_FALSE(tlsRivalRegistration(alone.source, alone.target, four.value(), options).ok());
 }
 
 // RANSAC over 3-point samples recovers the transform with 70 % outliers.

@@ -11,6 +11,8 @@ namespace {
 TEST(StationConfig, KeysSetOptions) {
   StationOptions options;
   const Status s = applyStationConfig(R"({
+      "loop_closures": {"object_ambiguity_ratio": 0, "object_rival_distance": 2.5,
+                        "anchor_objects": false},
       "alignment": {"min_inliers": 7, "sigma_translation_m": 0.25, "realign_threshold_m": 4,
                     "weigh_support": false},
       "deformation": {"two_stage": false, "final_iterations": 0, "mesh_variance": 0.001,
@@ -19,6 +21,9 @@ TEST(StationConfig, KeysSetOptions) {
       "rooms": {"enabled": false, "min_room_places": 4}})",
                                       "test.json", options);
   ASSERT_TRUE(s.ok()) << s.message();
+  EXPECT_DOUBLE_EQ(options.detector.object_ambiguity_ratio, 0.0);
+  EXPECT_DOUBLE_EQ(options.detector.object_rival_distance, 2.5);
+  EXPECT_FALSE(options.detector.anchor_objects);
   EXPECT_EQ(options.backend.alignment.alignment.min_inliers, 7u);
   EXPECT_DOUBLE_EQ(options.backend.alignment.alignment.averaging.information(0, 0), 16.0);
   EXPECT_DOUBLE_EQ(options.backend.alignment.alignment.averaging.information(3, 3), 400.0);
@@ -43,6 +48,8 @@ TEST(StationConfig, ErrorsNameTheProblemAndChangeNothing) {
       {"[1, 2]", "expected a JSON object"},
       {R"({"backend": {}})", "unknown section \"backend\""},
       {R"({"rooms": 3})", "rooms: expected an object"},
+      {R"({"loop_closures": {"object_ambiguity_ratio": -0.5}})",
+       "loop_closures.object_ambiguity_ratio: expected a number >= 0"},
       {R"({"rooms": {"min_places": 3}})", "unknown key rooms.min_places"},
       {R"({"deformation": {"mesh_variance": -1}})",
        "deformation.mesh_variance: expected a number > 0"},

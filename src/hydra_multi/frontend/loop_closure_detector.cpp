@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <set>
 
 namespace hydra_multi {
@@ -9,6 +11,28 @@ namespace {
 
 constexpr size_t kMaxObjectPairs = 200;
 constexpr size_t kMaxPairsPerWord = 4;
+
+int64_t median(std::vector<int64_t> values) {
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
+}
+
+// The keyframe of `robot` whose stamp is nearest `time_ns`.
+std::optional<NodeId> keyframeNearest(const SceneGraph& graph, RobotId robot, int64_t time_ns) {
+  std::optional<NodeId> best;
+  int64_t best_gap = std::numeric_limits<int64_t>::max();
+  for (const NodeId id : graph.nodesOfRobot(robot)) {
+    const Node& node = graph.getNode(id);
+    const AgentAttributes* agent = node.find<AgentAttributes>();
+    if (agent == nullptr) continue;
+    const int64_t gap = std::llabs(agent->timestamp_ns - time_ns);
+    if (gap < best_gap) {
+      best_gap = gap;
+      best = id;
+    }
+  }
+  return best;
+}
 
 }  // namespace
 
@@ -151,6 +175,7 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::verifyObjects(
   // Every same-label pair is a putative correspondence (query's robot frame -> candidate's).
   std::vector<Eigen::Vector3d> source, target;
   std::vector<uint32_t> labels;
+  std::vector<std::pair<const Node*, const Node*>> pairs;  // (query's, candidate's)
   // (Objects the robots have deleted since the keyframes were described are skipped.)
   for (const NodeId q : query.d.objects) {
     const Node* a = graph.findNode(q);
@@ -161,6 +186,7 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::verifyObjects(
       source.push_back(a->position);
       target.push_back(b->position);
       labels.push_back(a->semantic()->label);
+      pairs.emplace_back(a, b);
       if (source.size() >= kMaxObjectPairs) break;
     }
     if (source.size() >= kMaxObjectPairs) break;
@@ -168,13 +194,28 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::verifyObjects(
   const auto registration = tlsRegistration(source, target, options_.objects);
   if (!registration) return std::nullopt;
   const Eigen::Isometry3d T_candidate_query = registration.value().T_target_source;
+  if (ambiguous(source, target, registration.value())) return std::nullopt;
   DetectedLoopClosure closure;
   closure.robot_a = candidate.robot;
   closure.robot_b = query.robot;
   closure.keyframe_a = candidate.d.keyframe;
   closure.keyframe_b = query.d.keyframe;
-  closure.T_a_b = nodePose(graph.getNode(candidate.d.keyframe)).inverse() * T_candidate_query *
-                  nodePose(graph.getNode(query.d.keyframe));
+  if (options_.anchor_objects && closure.interRobot()) {
+    // Each side at the keyframe of its robot nearest the median time its inlier objects were
+    // mapped: the objects carry the drift of that moment, not of the keyframe that described them.
+    // (Not within one robot: there both sides may hold the same objects, mapped once.)
+    std::vector<int64_t> query_times, candidate_times;
+    for (const size_t i : registration.value().inliers) {
+      query_times.push_back(pairs[i].first->last_update_time_ns);
+      candidate_times.push_back(pairs[i].second->last_update_time_ns);
+    }
+    closure.keyframe_a = keyframeNearest(graph, candidate.robot, median(candidate_times))
+                             .value_or(candidate.d.keyframe);
+    closure.keyframe_b =
+        keyframeNearest(graph, query.robot, median(query_times)).value_or(query.d.keyframe);
+  }
+  closure.T_a_b = nodePose(graph.getNode(closure.keyframe_a)).inverse() * T_candidate_query *
+                  nodePose(graph.getNode(closure.keyframe_b));
   closure.information = informationFromVariances(std::pow(options_.object_translation_sigma, 2),
                                                  std::pow(options_.object_rotation_sigma, 2));
   closure.source = DetectedLoopClosure::Source::kObjects;
@@ -185,6 +226,22 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::verifyObjects(
     closure.distinctiveness += std::log(double(std::max(objects_, count)) / double(count));
   }
   return closure;
+}
+
+bool LoopClosureDetector::ambiguous(const std::vector<Eigen::Vector3d>& source,
+                                    const std::vector<Eigen::Vector3d>& target,
+                                    const RegistrationResult& best) const {
+  if (options_.object_ambiguity_ratio <= 0.0 || best.inliers.empty()) return false;
+  const auto rival = tlsRivalRegistration(source, target, best, options_.objects);
+  if (!rival || double(rival.value().inliers.size()) <
+                    options_.object_ambiguity_ratio * double(best.inliers.size()))
+    return false;
+  // A rival at (nearly) the same pose is the same match again (objects seen twice).
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const size_t i : best.inliers) centroid += source[i];
+  centroid /= double(best.inliers.size());
+  return (best.T_target_source * centroid - rival.value().T_target_source * centroid).norm() >
+         options_.object_rival_distance;
 }
 
 std::optional<DetectedLoopClosure> LoopClosureDetector::verifyVisual(

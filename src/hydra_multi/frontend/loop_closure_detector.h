@@ -10,9 +10,12 @@
 //              (score >= object_min_score) and bag of words (score >= bow_min_score) rank them;
 //   bottom-up  the first geometric verification that succeeds wins: objects, if the best object
 //              candidate scores >= object_register_score, by TLS registration of same-label
-//              object pairs with max-clique pruning (at least 5 inliers); otherwise visual
+//              object pairs with max-clique pruning (at least 5 inliers), unless a rival
+//              registration at another pose holds nearly as many (ambiguous); otherwise visual
 //              keypoints of the best bag-of-words candidates, matched by word id, by RANSAC with
 //              at least visual_min_inliers inliers.
+// An inter-robot object match joins the keyframes that mapped the registered objects (each
+// robot's keyframe nearest their median mapping time), since the objects keep that moment's drift.
 // A loop closure holds both keyframes (station ids), the relative pose T_a_b of keyframe b in
 // keyframe a's body frame, an information matrix per verifying layer, the inlier count and the
 // score, and its distinctiveness (how rare the matched labels or words are, for the alignment's
@@ -41,6 +44,17 @@ struct LoopClosureOptions {
   size_t visual_candidates = 2;  ///< best bag-of-words candidates verified per keyframe
   size_t visual_min_inliers = 12;
   TlsRegistrationOptions objects{0.3, 5, 20000};
+  /// An object registration with a rival is ambiguous and no loop closure: with the best
+  /// registration's inlier pairs set aside, a second one of at least this share of its inliers at
+  /// a pose more than object_rival_distance away (a corridor's row of look-alike rooms, shifted by
+  /// one room). 0: no check.
+  double object_ambiguity_ratio = 0.8;
+  double object_rival_distance = 1.0;  ///< m
+  /// An inter-robot object loop closure joins, on each side, the keyframe nearest the median
+  /// time its registered objects were mapped, not the keyframe that described them: a robot's
+  /// objects keep the drift of the moment it first saw them, and a robot passing again has
+  /// drifted on.
+  bool anchor_objects = true;
   /// A loop closure means both keyframes saw the same place: a verified transform that puts
   /// them further apart than this is not one (m).
   double max_keyframe_distance = 6.0;
@@ -102,6 +116,9 @@ class LoopClosureDetector {
                                            const Entry& query);
   std::optional<DetectedLoopClosure> verifyObjects(const SceneGraphProcessor& processor,
                                                    const Entry& query, const Entry& candidate);
+  /// Whether the object registration `best` of these correspondences has a rival (options).
+  bool ambiguous(const std::vector<Eigen::Vector3d>& source,
+                 const std::vector<Eigen::Vector3d>& target, const RegistrationResult& best) const;
   std::optional<DetectedLoopClosure> verifyVisual(const SceneGraphProcessor& processor,
                                                   const Entry& query, const Entry& candidate);
 

@@ -81,4 +81,24 @@ Result<RegistrationResult> tlsRegistration(const std::vector<Eigen::Vector3d>& s
   return registration;
 }
 
+Result<RegistrationResult> tlsRivalRegistration(const std::vector<Eigen::Vector3d>& source,
+                                                const std::vector<Eigen::Vector3d>& target,
+                                                const RegistrationResult& best,
+                                                const TlsRegistrationOptions& options) {
+  std::vector<bool> taken(source.size(), false);
+  for (const size_t i : best.inliers) taken.at(i) = true;
+  std::vector<size_t> rest;
+  std::vector<Eigen::Vector3d> rest_source, rest_target;
+  for (size_t i = 0; i < source.size(); ++i) {
+    if (taken[i]) continue;
+    rest.push_back(i);
+    rest_source.push_back(source[i]);
+    rest_target.push_back(target[i]);
+  }
+  auto rival = tlsRegistration(rest_source, rest_target, options);
+  if (!rival) return rival;
+  for (size_t& i : rival.value().inliers) i = rest[i];
+  return rival;
+}
+
 }  // namespace hydra_multi

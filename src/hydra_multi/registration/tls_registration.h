@@ -27,4 +27,13 @@ Result<RegistrationResult> tlsRegistration(const std::vector<Eigen::Vector3d>& s
                                            const std::vector<Eigen::Vector3d>& target,
                                            const TlsRegistrationOptions& options = {});
 
+/// The rival of a registration `best` of these correspondences: the best registration of the
+/// correspondences that are not its inliers (indices into source/target). In a row of look-alike
+/// rooms the same objects register once per room shift, each with about as many inliers; a rival
+/// far from `best` with nearly its inliers makes `best` ambiguous.
+Result<RegistrationResult> tlsRivalRegistration(const std::vector<Eigen::Vector3d>& source,
+                                                const std::vector<Eigen::Vector3d>& target,
+                                                const RegistrationResult& best,
+                                                const TlsRegistrationOptions& options = {});
+
 }  // namespace hydra_multi

@@ -1,11 +1,13 @@
 #pragma once
 // The station's configuration file (`hydra-multi run --config FILE`): a JSON object whose sections
-// set the backend's parameters over the defaults of DESIGN.md. Every key is optional; an unknown
+// set the station's parameters over the defaults of DESIGN.md. Every key is optional; an unknown
 // key, a wrong type or a value out of range is an error that names the file and the key.
 //
 //   {
+//     "loop_closures":  {"object_ambiguity_ratio": 0.8, "object_rival_distance": 1.0,
+//                        "anchor_objects": true},
 //     "alignment":      {"min_inliers": 5, "sigma_translation_m": 0.5, "sigma_rotation_rad": 0.05,
-//                        "realign_threshold_m": 10.0},
+//                        "realign_threshold_m": 10.0, "weigh_support": true},
 //     "deformation":    {"odometry_variance": 0.01, "loop_closure_variance": 0.05,
 //                        "mesh_variance": 0.01, "two_stage": true, "final_iterations": 10,
 //                        "gnc_mu_step": 1.4, "gnc_inlier_probability": 0.99,
