@@ -10,6 +10,7 @@
 // hm-align by our initial alignment, without joint optimization; oracle-lc is the full system fed
 // only the inter-robot loop closures the ground truth calls correct.
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -143,10 +144,18 @@ int runRun(const RunOptions& o) {
         checkMerge(truth.value(), sideOf(m.target_side), sideOf(m.source_side));
     if (!check.across_rooms) continue;
     ++merges_across_rooms;
-    if (!o.quiet)
+    if (!o.quiet) {
+      const auto room = [&truth](int id) {
+        const auto& ids = truth.value().room_ids;
+        const auto it = std::find(ids.begin(), ids.end(), id);
+        const std::string kind =
+            it == ids.end() ? "" : " (" + truth.value().room_kinds[it - ids.begin()] + ")";
+        return std::to_string(id) + kind;
+      };
       std::cerr << "evaluation: merge of " << m.source.str() << " into " << m.target.str() << " ("
-                << layerName(m.layer) << ") joins two true rooms, " << check.true_distance_m
-                << " m apart" << std::endl;
+                << layerName(m.layer) << ") joins two true rooms, " << room(check.room_b) << " and "
+                << room(check.room_a) << ", " << check.true_distance_m << " m apart" << std::endl;
+    }
   }
   std::vector<double> frontend_ms, backend_ms;
   for (const UpdateTiming& u : result.updates) frontend_ms.push_back(u.frontend_ms);

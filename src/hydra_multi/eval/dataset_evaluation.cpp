@@ -52,6 +52,8 @@ MergeCheck checkMerge(const DatasetGroundTruth& truth, const MergeSide& a, const
   check.true_distance_m = (p - q).norm();
   const auto rooms = roomOfCell(truth);
   const int room_p = trueRoom(truth, rooms, p), room_q = trueRoom(truth, rooms, q);
+  check.room_a = room_p;
+  check.room_b = room_q;
   check.across_rooms =
       room_p >= 0 && room_q >= 0 && room_p != room_q && check.true_distance_m > min_distance_m;
   return check;

@@ -65,6 +65,7 @@ struct MergeCheck {
   bool checked = false;  ///< both keyframes have a true pose
   bool across_rooms = false;
   double true_distance_m = 0.0;
+  int room_a = -1, room_b = -1;  ///< true room ids of the two nodes (-1: outside every room)
 };
 MergeCheck checkMerge(const DatasetGroundTruth& truth, const MergeSide& a, const MergeSide& b,
                       double min_distance_m = 1.0);
