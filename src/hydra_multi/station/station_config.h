@@ -12,7 +12,7 @@
 //                        "mesh_variance": 0.01, "two_stage": true, "final_iterations": 10,
 //                        "gnc_mu_step": 1.4, "gnc_inlier_probability": 0.99,
 //                        "gnc_inner_iterations": 3},
-//     "reconciliation": {"enabled": true, "place_max_distance": 0.4,
+//     "reconciliation": {"enabled": true, "place_max_distance": 0.3,
 //                        "place_max_radius_difference": 0.3, "min_valid_share": 0.5,
 //                        "merge_variance": 0.05},
 //     "rooms":          {"enabled": true, "thresholds": 12, "min_threshold": 0.43,
