@@ -12,7 +12,9 @@ namespace {
 constexpr size_t kMaxObjectPairs = 200;
 constexpr size_t kMaxPairsPerWord = 4;
 
-int64_t median(std::vector<int64_t> values) {
+// The upper median of a non-empty list.
+template <typename T>
+T median(std::vector<T> values) {
   std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
   return values[values.size() / 2];
 }
@@ -46,15 +48,12 @@ std::vector<double> interRobotSupport(const std::vector<DetectedLoopClosure>& cl
     if (c.interRobot() && c.inliers > 0)
       per_inlier[c.source].push_back(c.distinctiveness / double(c.inliers));
   }
-  std::map<DetectedLoopClosure::Source, double> median;
-  for (auto& [source, values] : per_inlier) {
-    std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-    median[source] = values[values.size() / 2];
-  }
+  std::map<DetectedLoopClosure::Source, double> typical;
+  for (const auto& [source, values] : per_inlier) typical[source] = median(values);
   std::vector<double> support;
   for (const DetectedLoopClosure& c : closures) {
     if (!c.interRobot()) continue;
-    support.push_back(std::max(0.0, c.distinctiveness - median[c.source] * double(c.inliers)));
+    support.push_back(std::max(0.0, c.distinctiveness - typical[c.source] * double(c.inliers)));
   }
   return support;
 }
@@ -174,7 +173,6 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::verifyObjects(
   const SceneGraph& graph = processor.graph();
   // Every same-label pair is a putative correspondence (query's robot frame -> candidate's).
   std::vector<Eigen::Vector3d> source, target;
-  std::vector<uint32_t> labels;
   std::vector<std::pair<const Node*, const Node*>> pairs;  // (query's, candidate's)
   // (Objects the robots have deleted since the keyframes were described are skipped.)
   for (const NodeId q : query.d.objects) {
@@ -185,7 +183,6 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::verifyObjects(
       if (b == nullptr || a->semantic()->label != b->semantic()->label) continue;
       source.push_back(a->position);
       target.push_back(b->position);
-      labels.push_back(a->semantic()->label);
       pairs.emplace_back(a, b);
       if (source.size() >= kMaxObjectPairs) break;
     }
@@ -221,7 +218,7 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::verifyObjects(
   closure.source = DetectedLoopClosure::Source::kObjects;
   closure.inliers = registration.value().inliers.size();
   for (const size_t i : registration.value().inliers) {
-    const auto n = label_objects_.find(labels[i]);
+    const auto n = label_objects_.find(pairs[i].first->semantic()->label);
     const size_t count = n == label_objects_.end() ? 1 : std::max<size_t>(1, n->second);
     closure.distinctiveness += std::log(double(std::max(objects_, count)) / double(count));
   }
