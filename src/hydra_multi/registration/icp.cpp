@@ -64,6 +64,11 @@ Result<IcpResult> icp(const std::vector<Eigen::Vector3d>& source,
                    std::to_string(options.max_correspondence_distance) + " m of the target"};
     Eigen::Isometry3d next = T;
     if (to_plane) {
+      // Linearized about the paired target points' centroid c, not the origin: far from the
+      // origin the lever arm p x n would make the rotation ill-conditioned.
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (const size_t t : paired_target) c += target[t];
+      c /= static_cast<double>(paired_target.size());
       Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
       Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
       for (size_t k = 0; k < paired_source.size(); ++k) {
@@ -71,18 +76,24 @@ Result<IcpResult> icp(const std::vector<Eigen::Vector3d>& source,
         const Eigen::Vector3d& q = target[paired_target[k]];
         const Eigen::Vector3d& n = normals[paired_target[k]];
         Eigen::Matrix<double, 6, 1> J;
-        J << n, p.cross(n);  // d r / d [t; omega]
+        J << n, (p - c).cross(n);  // d r / d [t; omega], rotation about c
         const double r = n.dot(p - q);
         H += J * J.transpose();
         g += J * r;
       }
+      // Directions the planes leave free (a flat top slides along itself) get no step: a light
+      // damping keeps them at zero instead of a huge solve of a near-singular system.
+      H.diagonal().array() += 1e-6 * H.trace() / 6.0 + 1e-12;
       const Eigen::Matrix<double, 6, 1> delta = -H.ldlt().solve(g);
       if (!delta.allFinite()) return Error{"icp: the point-to-plane system is singular"};
       const Eigen::Vector3d omega = delta.tail<3>();
-      Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+      Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
       if (omega.norm() > 0)
-        step.linear() = Eigen::AngleAxisd(omega.norm(), omega.normalized()).toRotationMatrix();
-      step.translation() = delta.head<3>();
+        R = Eigen::AngleAxisd(omega.norm(), omega.normalized()).toRotationMatrix();
+      // p -> R (p - c) + c + t
+      Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+      step.linear() = R;
+      step.translation() = c - R * c + delta.head<3>();
       next = step * T;
     } else {
       std::vector<Eigen::Vector3d> src, dst;

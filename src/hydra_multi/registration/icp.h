@@ -5,7 +5,9 @@
 //   point to point  the pairs' closed-form alignment (closed_form.h) is the new estimate;
 //   point to plane  one Gauss-Newton step on sum_i (n_i . (T s_i - d_i))^2 with the target's
 //                   normals n_i (from the covariance of its k nearest neighbours), linearized
-//                   about the estimate: T <- (R(omega), t) * T (Low 2004).
+//                   about the estimate with the rotation about the paired points' centroid c:
+//                   T <- (p -> R(omega)(p - c) + c + t) * T (Low 2004); lightly damped, so a
+//                   direction the planes leave free (a flat top sliding on itself) stays put.
 // Stops when an update moves less than the convergence bounds or after max_iterations.
 
 #include <vector>
