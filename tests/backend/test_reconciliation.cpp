@@ -59,5 +59,71 @@ TEST(Reconciliation, ProposesOverlappingPlacesAndObjects) {
   EXPECT_NEAR(Eigen::AngleAxisd(factors[0].T_from_to.linear()).angle(), 0.5, 1e-12);
 }
 
+// A 0.75 x 0.75 x 0.9 m box's vertices on a 0.3 m lattice, about its centre.
+std::vector<Eigen::Vector3d> boxVertices(const Eigen::Vector3d& size) {
+  std::vector<Eigen::Vector3d> points;
+  for (double x = 0.0; x <= size.x() + 1e-9; x += size.x() / 3)
+    for (double y = 0.0; y <= size.y() + 1e-9; y += size.y() / 3)
+      for (double z = 0.0; z <= size.z() + 1e-9; z += size.z() / 3) {
+        const Eigen::Vector3d p(x, y, z);
+        if (((p.array() < 1e-9) || (p.array() > size.array() - 1e-9)).any())
+          points.push_back(p - 0.5 * size);
+      }
+  return points;
+}
+
+// An object with its vertices (moved by `pose` about its centre) in a robot's graph and mesh.
+void meshedObject(SceneGraph& g, Mesh& mesh, RobotId robot, uint64_t index,
+                  const Eigen::Isometry3d& pose, const Eigen::Vector3d& size) {
+  object(g, robot, index, pose.translation(), 6, 0.5 * size.maxCoeff());
+  Node node = g.getNode(NodeId::station('O', robot, index));
+  for (const Eigen::Vector3d& p : boxVertices(size)) {
+    node.find<ObjectAttributes>()->mesh_vertices.push_back(mesh.vertices.size());
+    MeshVertex v;
+    v.position = (pose * p).cast<float>();
+    mesh.vertices.push_back(v);
+  }
+  g.addOrUpdateNode(node);
+}
+
+// Object candidates 42 m from the origin, checked by ICP: a copy 0.2 m and 3 degrees off is
+// kept with ICP's measurement (the check once took the motion of the origin, 2.4 m, for the
+// object's: every such pair was dropped); a copy turned 35 degrees is dropped (the robots are
+// aligned: a fit that needs so large a turn is not the same object the same way round).
+TEST(Reconciliation, ObjectMergesCheckedByIcpFarFromTheOrigin) {
+  const Eigen::Vector3d size(1.2, 0.6, 0.9);
+  Eigen::Isometry3d at = Eigen::Isometry3d::Identity();
+  at.translation() = Eigen::Vector3d(13.0, 40.0, 0.5);
+  const auto turned = [&](double deg, const Eigen::Vector3d& shift) {
+    Eigen::Isometry3d T = at;
+    T.linear() = Eigen::AngleAxisd(deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    T.translation() += shift;
+    return T;
+  };
+  const std::map<RobotId, Eigen::Isometry3d> T = {{kA, Eigen::Isometry3d::Identity()},
+                                                  {kB, Eigen::Isometry3d::Identity()}};
+  for (const double deg : {3.0, 35.0}) {
+    SCOPED_TRACE(deg);
+    SceneGraph g;
+    Mesh mesh_a, mesh_b;
+    meshedObject(g, mesh_a, kA, 0, at, size);
+    meshedObject(g, mesh_b, kB, 0, turned(deg, {0.15, -0.13, 0.0}), size);
+    const auto candidates = proposeMerges(g, T);
+    ASSERT_EQ(candidates.size(), 1u);
+    const auto kept = refineObjectMerges(candidates, g, T, {{kA, &mesh_a}, {kB, &mesh_b}});
+    if (deg > 20.0) {
+      EXPECT_TRUE(kept.empty());
+      continue;
+    }
+    ASSERT_EQ(kept.size(), 1u);
+    ASSERT_TRUE(kept[0].T_target_source.has_value());
+    // Between the node poses (at the nodes' centres, the robots' rotation): the source's
+    // centre is the target's, its vertices turned by deg.
+    EXPECT_LT(kept[0].T_target_source->translation().norm(), 0.03);
+    EXPECT_NEAR(Eigen::AngleAxisd(kept[0].T_target_source->linear()).angle(), deg * M_PI / 180.0,
+                0.01);
+  }
+}
+
 }  // namespace
 }  // namespace hydra_multi

@@ -1,6 +1,7 @@
 #include "hydra_multi/backend/reconciliation.h"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 #include <tuple>
 
@@ -132,10 +133,18 @@ std::vector<MergeCandidate> refineObjectMerges(
       continue;
     }
     const auto fit = icp(source, target);
-    if (!fit ||
-        double(fit.value().inliers.size()) < options.icp_min_paired_share * double(source.size()) ||
-        fit.value().rmse > options.icp_max_rmse_m ||
-        fit.value().T_target_source.translation().norm() > options.icp_max_shift_m)
+    if (!fit) continue;
+    // How far ICP moves the source object and how much it turns it (T's translation alone is
+    // the motion of the global origin: metres for a slight turn of an object far from it).
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& p : source) centroid += p;
+    centroid /= static_cast<double>(source.size());
+    const Eigen::Isometry3d& T = fit.value().T_target_source;
+    const double shift = (T * centroid - centroid).norm();
+    const double turn_deg = Eigen::AngleAxisd(T.linear()).angle() * 180.0 / M_PI;
+    if (double(fit.value().inliers.size()) < options.icp_min_paired_share * double(source.size()) ||
+        fit.value().rmse > options.icp_max_rmse_m || shift > options.icp_max_shift_m ||
+        turn_deg > options.icp_max_rotation_deg)
       continue;
     c.T_target_source = X_target.inverse() * fit.value().T_target_source * X_source;
     kept.push_back(std::move(c));
