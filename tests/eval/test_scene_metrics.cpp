@@ -25,6 +25,38 @@ TEST(SceneMetrics, ObjectsFoundAndCorrect) {
   EXPECT_FALSE(objectMetrics(estimated, {}, 1.0).found_pct.has_value());
 }
 
+// The same estimate, object by object at 1 m, plus a second copy of the first chair: the first
+// chair correct, its copy a duplicate (still counted correct by the paper's share), the chair 3 m
+// off misplaced, the table labelled chair a wrong label, the sofa misplaced.
+TEST(SceneMetrics, ObjectVerdicts) {
+  const uint32_t chair = 5, table = 7, sofa = 9;
+  const std::vector<LabelledPoint> truth = {
+      {chair, {0, 0, 0}}, {chair, {10, 0, 0}}, {table, {5, 5, 0}}};
+  const std::vector<LabelledPoint> estimated = {{chair, {0.5, 0, 0}}, {chair, {13, 0, 0}},
+                                                {chair, {5, 5, 0.2}}, {sofa, {20, 0, 0}},
+                                                {chair, {-0.3, 0, 0}}};
+  const ObjectMetrics m = objectMetrics(estimated, truth, 1.0);
+  EXPECT_EQ(m.correct, 2u);
+  EXPECT_EQ(m.duplicates, 1u);
+  EXPECT_EQ(m.wrong_label, 1u);
+  EXPECT_EQ(m.misplaced, 2u);
+  EXPECT_NEAR(*m.correct_pct, 40.0, 1e-12);  // duplicates count as correct
+  using Kind = ObjectVerdict::Kind;
+  ASSERT_EQ(m.verdicts.size(), estimated.size());
+  EXPECT_EQ(m.verdicts[0].kind, Kind::kCorrect);
+  EXPECT_EQ(m.verdicts[0].true_index, 0);
+  EXPECT_NEAR(m.verdicts[0].distance_m, 0.5, 1e-12);
+  EXPECT_EQ(m.verdicts[1].kind, Kind::kMisplaced);
+  EXPECT_EQ(m.verdicts[1].true_index, -1);
+  EXPECT_EQ(m.verdicts[2].kind, Kind::kWrongLabel);
+  EXPECT_EQ(m.verdicts[2].true_index, 2);
+  EXPECT_NEAR(m.verdicts[2].distance_m, 0.2, 1e-12);
+  EXPECT_EQ(m.verdicts[3].kind, Kind::kMisplaced);
+  EXPECT_EQ(m.verdicts[4].kind, Kind::kDuplicate);
+  EXPECT_EQ(m.verdicts[4].true_index, 0);
+  EXPECT_STREQ(toString(Kind::kWrongLabel), "wrong_label");
+}
+
 // Places at known distances from a line of GVD voxels.
 TEST(SceneMetrics, PlacesPositionError) {
   std::vector<Eigen::Vector3d> gvd;

@@ -1,6 +1,7 @@
 // `hydra-multi evaluate --dataset DIR --result GRAPH [--json]`: the paper's metrics of a scene
 // graph (in the global frame, robot 0's) against a simulated dataset's ground truth.
 
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -20,6 +21,43 @@ std::string show(const std::optional<double>& v, const char* unit, int precision
   return out.str();
 }
 
+Status writeObjectsCsv(const std::string& path, const SceneGraph& graph,
+                             const SceneGraphScore& score, const DatasetGroundTruth& truth) {
+  std::ofstream out(path);
+  if (!out) return Error{"cannot write " + path};
+  out << "node,label,name,x,y,z,verdict,true_object,true_label,distance_m\n" << std::setprecision(6);
+  for (const ScoredObject& o : score.objects) {
+    const SemanticAttributes* semantic = graph.getNode(o.id).semantic();
+    out << o.id.str() << "," << o.label << "," << (semantic ? semantic->name : "") << ","
+        << o.position_world.x() << "," << o.position_world.y() << "," << o.position_world.z()
+        << "," << toString(o.verdict.kind) << ",";
+    if (o.verdict.true_index >= 0)
+      out << o.verdict.true_index << ","
+          << truth.objects.at(static_cast<size_t>(o.verdict.true_index)).label << ","
+          << o.verdict.distance_m;
+    else
+      out << ",,";
+    out << "\n";
+  }
+  if (!out) return Error{"cannot write " + path};
+  return Status::Ok();
+}
+
+Status writeKeyframesCsv(const std::string& path, const SceneGraphScore& score) {
+  std::ofstream out(path);
+  if (!out) return Error{"cannot write " + path};
+  out << "node,stamp_s,x,y,z,true_x,true_y,true_z,error_m\n" << std::setprecision(6);
+  for (const ScoredKeyframe& k : score.keyframes) {
+    const Eigen::Vector3d& p = k.position_world;
+    const Eigen::Vector3d& t = k.true_position;
+    out << k.id.str() << "," << 1e-9 * static_cast<double>(k.stamp_ns) << "," << p.x() << ","
+        << p.y() << "," << p.z() << "," << t.x() << "," << t.y() << "," << t.z() << ","
+        << (p - t).norm() << "\n";
+  }
+  if (!out) return Error{"cannot write " + path};
+  return Status::Ok();
+}
+
 }  // namespace
 
 int runEvaluate(const EvaluateOptions& o) {
@@ -28,6 +66,14 @@ int runEvaluate(const EvaluateOptions& o) {
   auto graph = io::loadSceneGraph(o.result);
   if (!graph) return fail(graph.error());
   const SceneGraphScore s = evaluateSceneGraph(graph.value(), truth.value());
+  if (!o.objects_csv.empty()) {
+    if (Status written = writeObjectsCsv(o.objects_csv, graph.value(), s, truth.value()); !written)
+      return fail(written.message());
+  }
+  if (!o.keyframes_csv.empty()) {
+    if (Status written = writeKeyframesCsv(o.keyframes_csv, s); !written)
+      return fail(written.message());
+  }
   if (o.json) {
     const nlohmann::ordered_json j = scoreJson(s);
     std::cout << j.dump() << "\n";
@@ -40,6 +86,9 @@ int runEvaluate(const EvaluateOptions& o) {
             << "  objects found     " << show(s.objects_found_pct, " %", 1) << "\n"
             << "  objects correct   " << show(s.objects_correct_pct, " %", 1) << " of "
             << s.num_objects << " (threshold " << s.object_threshold_m << " m)\n"
+            << "    of which        " << s.objects_correct << " correct (" << s.objects_duplicates
+            << " duplicates), " << s.objects_wrong_label << " wrong label, "
+            << s.objects_misplaced << " misplaced\n"
             << "  places error      " << show(s.places_position_error_m, " m") << " over "
             << s.num_places << " places\n"
             << "  rooms precision   " << show(s.rooms_precision, "") << "\n"

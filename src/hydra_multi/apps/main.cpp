@@ -132,6 +132,12 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::ExistingFile);
   evaluate_cmd->add_flag("--json", evaluate.json, "print exactly one JSON object on stdout");
+  evaluate_cmd->add_option("--objects", evaluate.objects_csv,
+                           "write every estimated object's verdict (correct, duplicate, "
+                           "wrong_label, misplaced) to this CSV file");
+  evaluate_cmd->add_option("--keyframes", evaluate.keyframes_csv,
+                           "write every keyframe's position, true position and error (after the "
+                           "ATE's fit) to this CSV file");
 
   DatasetGraphOptions dataset_graph;
   CLI::App* dataset_graph_cmd = app.add_subcommand(

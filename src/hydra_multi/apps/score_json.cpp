@@ -19,7 +19,11 @@ nlohmann::ordered_json scoreJson(const SceneGraphScore& s) {
           {"rooms_recall", orNull(s.rooms_recall)},
           {"num_objects", s.num_objects},
           {"num_places", s.num_places},
-          {"num_rooms", s.num_rooms}};
+          {"num_rooms", s.num_rooms},
+          {"objects_correct", s.objects_correct},
+          {"objects_duplicates", s.objects_duplicates},
+          {"objects_wrong_label", s.objects_wrong_label},
+          {"objects_misplaced", s.objects_misplaced}};
 }
 
 }  // namespace hydra_multi::apps

@@ -73,6 +73,7 @@ SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundT
     if (const Eigen::Isometry3d* T = truth.poseAt(*robot, agent->timestamp_ns)) {
       estimate.push_back(node.position);
       reference.push_back(T->translation());
+      score.keyframes.push_back({id, agent->timestamp_ns, node.position, T->translation()});
     }
   }
   score.matched_keyframes = estimate.size();
@@ -85,6 +86,8 @@ SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundT
     score.aligned_by_trajectory = true;
   }
 
+  for (ScoredKeyframe& k : score.keyframes) k.position_world = T_world_graph * k.position_world;
+
   std::vector<LabelledPoint> objects;
   for (const NodeId id : graph.nodesInLayer(Layer::kObjects)) {
     const Node& node = graph.getNode(id);
@@ -95,6 +98,16 @@ SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundT
       objectMetrics(objects, truth.objects, truth.object_threshold_m);
   score.objects_found_pct = object_metrics.found_pct;
   score.objects_correct_pct = object_metrics.correct_pct;
+  score.objects_correct = object_metrics.correct;
+  score.objects_duplicates = object_metrics.duplicates;
+  score.objects_wrong_label = object_metrics.wrong_label;
+  score.objects_misplaced = object_metrics.misplaced;
+  size_t i = 0;
+  for (const NodeId id : graph.nodesInLayer(Layer::kObjects)) {
+    score.objects.push_back(
+        {id, objects[i].label, objects[i].position, object_metrics.verdicts[i]});
+    ++i;
+  }
 
   std::vector<Eigen::Vector3d> places;
   for (const NodeId id : graph.nodesInLayer(Layer::kPlaces))

@@ -19,6 +19,22 @@
 
 namespace hydra_multi {
 
+/// One estimated object as scored: its node, label and world position, and its verdict.
+struct ScoredObject {
+  NodeId id;
+  uint32_t label = 0;
+  Eigen::Vector3d position_world = Eigen::Vector3d::Zero();
+  ObjectVerdict verdict;
+};
+
+/// One keyframe as scored: its node, its position (after the fit) and its true position.
+struct ScoredKeyframe {
+  NodeId id;
+  int64_t stamp_ns = 0;
+  Eigen::Vector3d position_world = Eigen::Vector3d::Zero();
+  Eigen::Vector3d true_position = Eigen::Vector3d::Zero();
+};
+
 struct SceneGraphScore {
   std::optional<double> ate_rmse_m;  ///< none with fewer than 3 matched keyframes
   std::optional<double> objects_found_pct, objects_correct_pct;
@@ -26,6 +42,12 @@ struct SceneGraphScore {
   std::optional<double> places_position_error_m;
   std::optional<double> rooms_precision, rooms_recall;
   size_t num_objects = 0, num_places = 0, num_rooms = 0;
+  /// The estimated objects by verdict (scene_metrics.h): correct (of them duplicates), wrong
+  /// label, misplaced.
+  size_t objects_correct = 0, objects_duplicates = 0, objects_wrong_label = 0,
+         objects_misplaced = 0;
+  std::vector<ScoredObject> objects;  ///< every estimated object, in the graph's order
+  std::vector<ScoredKeyframe> keyframes;  ///< every keyframe with a true pose, in the graph's order
   size_t matched_keyframes = 0;
   bool aligned_by_trajectory = false;  ///< false: placed by robot 0's true start pose
 };

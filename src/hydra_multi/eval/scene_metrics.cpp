@@ -57,9 +57,56 @@ std::optional<double> meanBestOverlap(const std::vector<VoxelSet>& a,
 
 }  // namespace
 
+const char* toString(ObjectVerdict::Kind kind) {
+  switch (kind) {
+    case ObjectVerdict::Kind::kCorrect:
+      return "correct";
+    case ObjectVerdict::Kind::kDuplicate:
+      return "duplicate";
+    case ObjectVerdict::Kind::kWrongLabel:
+      return "wrong_label";
+    case ObjectVerdict::Kind::kMisplaced:
+      return "misplaced";
+  }
+  return "?";
+}
+
 ObjectMetrics objectMetrics(const std::vector<LabelledPoint>& estimated,
                             const std::vector<LabelledPoint>& truth, double threshold_m) {
-  return {matchedShare(truth, estimated, threshold_m), matchedShare(estimated, truth, threshold_m)};
+  ObjectMetrics metrics;
+  metrics.found_pct = matchedShare(truth, estimated, threshold_m);
+  metrics.correct_pct = matchedShare(estimated, truth, threshold_m);
+  std::vector<Eigen::Vector3d> true_positions;
+  for (const LabelledPoint& t : truth) true_positions.push_back(t.position);
+  const NearestNeighbors index(true_positions);
+  std::set<int> matched_truth;
+  for (const LabelledPoint& e : estimated) {
+    const auto near = index.withinRadius(e.position, threshold_m);
+    ObjectVerdict same_label, any_label;
+    const auto keepNearer = [](ObjectVerdict& v, const NearestNeighbors::Neighbor& n) {
+      if (v.true_index < 0 || n.distance < v.distance_m)
+        v = {v.kind, static_cast<int>(n.index), n.distance};
+    };
+    for (const auto& n : near) {
+      keepNearer(any_label, n);
+      if (truth[n.index].label == e.label) keepNearer(same_label, n);
+    }
+    if (same_label.true_index >= 0) {
+      ++metrics.correct;
+      const bool first = matched_truth.insert(same_label.true_index).second;
+      if (!first) ++metrics.duplicates;
+      same_label.kind = first ? ObjectVerdict::Kind::kCorrect : ObjectVerdict::Kind::kDuplicate;
+      metrics.verdicts.push_back(same_label);
+    } else if (any_label.true_index >= 0) {
+      ++metrics.wrong_label;
+      any_label.kind = ObjectVerdict::Kind::kWrongLabel;
+      metrics.verdicts.push_back(any_label);
+    } else {
+      ++metrics.misplaced;
+      metrics.verdicts.push_back({ObjectVerdict::Kind::kMisplaced, -1, 0.0});
+    }
+  }
+  return metrics;
 }
 
 std::optional<double> placesPositionError(const std::vector<Eigen::Vector3d>& places,
