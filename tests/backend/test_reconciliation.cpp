@@ -27,15 +27,15 @@ void object(SceneGraph& g, RobotId robot, uint64_t index, const Eigen::Vector3d&
 TEST(Reconciliation, ProposesOverlappingPlacesAndObjects) {
   SceneGraph g;
   place(g, kA, 0, {1, 1, 1}, 1.0);
-  place(g, kB, 0, {1.2 - 10, 1, 1}, 1.1);   // 0.2 m away, similar radius: a candidate
+  place(g, kB, 0, {1.2 - 10, 1, 1}, 1.1);  // 0.2 m away, similar radius: a candidate
   place(g, kA, 1, {5, 1, 1}, 1.0);
-  place(g, kB, 1, {5.3 - 10, 1, 1}, 0.5);   // radii too different
-  place(g, kB, 2, {8 - 10, 1, 1}, 1.0);     // too far from anything
+  place(g, kB, 1, {5.3 - 10, 1, 1}, 0.5);  // radii too different
+  place(g, kB, 2, {8 - 10, 1, 1}, 1.0);    // too far from anything
   object(g, kA, 0, {3, 3, 0.5}, 6, 0.5);
   object(g, kB, 0, {3.3 - 10, 3.2, 0.5}, 6, 0.5);  // same label, boxes overlap
   object(g, kB, 1, {3.1 - 10, 2.9, 0.5}, 7, 0.5);  // another label
   object(g, kA, 1, {9, 9, 0.5}, 6, 0.3);
-  object(g, kB, 2, {9.8 - 10, 9, 0.5}, 6, 0.3);     // same label, boxes apart
+  object(g, kB, 2, {9.8 - 10, 9, 0.5}, 6, 0.3);  // same label, boxes apart
   Eigen::Isometry3d T_b = Eigen::Isometry3d::Identity();
   T_b.translation().x() = 10.0;
   const std::map<RobotId, Eigen::Isometry3d> T = {{kA, Eigen::Isometry3d::Identity()}, {kB, T_b}};
@@ -52,7 +52,8 @@ TEST(Reconciliation, ProposesOverlappingPlacesAndObjects) {
   // The factors: zero translation, the rotation between the two robots' frames.
   Eigen::Isometry3d turned = T_b;
   turned.linear() = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  const auto factors = mergeFactors(candidates, {{kA, Eigen::Isometry3d::Identity()}, {kB, turned}});
+  const auto factors =
+      mergeFactors(candidates, {{kA, Eigen::Isometry3d::Identity()}, {kB, turned}});
   ASSERT_EQ(factors.size(), 2u);
   EXPECT_EQ(factors[0].kind, PoseGraphEdge::Kind::kLoopClosure);
   EXPECT_LT(factors[0].T_from_to.translation().norm(), 1e-12);

@@ -32,8 +32,10 @@ TEST(SceneMetrics, ObjectVerdicts) {
   const uint32_t chair = 5, table = 7, sofa = 9;
   const std::vector<LabelledPoint> truth = {
       {chair, {0, 0, 0}}, {chair, {10, 0, 0}}, {table, {5, 5, 0}}};
-  const std::vector<LabelledPoint> estimated = {{chair, {0.5, 0, 0}}, {chair, {13, 0, 0}},
-                                                {chair, {5, 5, 0.2}}, {sofa, {20, 0, 0}},
+  const std::vector<LabelledPoint> estimated = {{chair, {0.5, 0, 0}},
+                                                {chair, {13, 0, 0}},
+                                                {chair, {5, 5, 0.2}},
+                                                {sofa, {20, 0, 0}},
                                                 {chair, {-0.3, 0, 0}}};
   const ObjectMetrics m = objectMetrics(estimated, truth, 1.0);
   EXPECT_EQ(m.correct, 2u);

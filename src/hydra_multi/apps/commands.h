@@ -68,7 +68,7 @@ struct EvaluateOptions {
   std::string dataset;
   std::string result;  ///< a scene graph in the global frame (robot 0's)
   bool json = false;
-  std::string objects_csv;  ///< when set: every estimated object's verdict, one row each
+  std::string objects_csv;    ///< when set: every estimated object's verdict, one row each
   std::string keyframes_csv;  ///< when set: every keyframe's position and true position
 };
 int runEvaluate(const EvaluateOptions& options);

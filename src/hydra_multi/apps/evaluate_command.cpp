@@ -1,5 +1,6 @@
-// `hydra-multi evaluate --dataset DIR --result GRAPH [--json]`: the paper's metrics of a scene
-// graph (in the global frame, robot 0's) against a simulated dataset's ground truth.
+// `hydra-multi evaluate --dataset DIR --result GRAPH [--json] [--objects F] [--keyframes F]`: the
+// paper's metrics of a scene graph (in the global frame, robot 0's) against a simulated dataset's
+// ground truth; optionally every object's verdict and every keyframe's error as CSV.
 
 #include <fstream>
 #include <iomanip>
@@ -22,15 +23,16 @@ std::string show(const std::optional<double>& v, const char* unit, int precision
 }
 
 Status writeObjectsCsv(const std::string& path, const SceneGraph& graph,
-                             const SceneGraphScore& score, const DatasetGroundTruth& truth) {
+                       const SceneGraphScore& score, const DatasetGroundTruth& truth) {
   std::ofstream out(path);
   if (!out) return Error{"cannot write " + path};
-  out << "node,label,name,x,y,z,verdict,true_object,true_label,distance_m\n" << std::setprecision(6);
+  out << "node,label,name,x,y,z,verdict,true_object,true_label,distance_m\n"
+      << std::setprecision(6);
   for (const ScoredObject& o : score.objects) {
     const SemanticAttributes* semantic = graph.getNode(o.id).semantic();
     out << o.id.str() << "," << o.label << "," << (semantic ? semantic->name : "") << ","
-        << o.position_world.x() << "," << o.position_world.y() << "," << o.position_world.z()
-        << "," << toString(o.verdict.kind) << ",";
+        << o.position_world.x() << "," << o.position_world.y() << "," << o.position_world.z() << ","
+        << toString(o.verdict.kind) << ",";
     if (o.verdict.true_index >= 0)
       out << o.verdict.true_index << ","
           << truth.objects.at(static_cast<size_t>(o.verdict.true_index)).label << ","
@@ -87,8 +89,8 @@ int runEvaluate(const EvaluateOptions& o) {
             << "  objects correct   " << show(s.objects_correct_pct, " %", 1) << " of "
             << s.num_objects << " (threshold " << s.object_threshold_m << " m)\n"
             << "    of which        " << s.objects_correct << " correct (" << s.objects_duplicates
-            << " duplicates), " << s.objects_wrong_label << " wrong label, "
-            << s.objects_misplaced << " misplaced\n"
+            << " duplicates), " << s.objects_wrong_label << " wrong label, " << s.objects_misplaced
+            << " misplaced\n"
             << "  places error      " << show(s.places_position_error_m, " m") << " over "
             << s.num_places << " places\n"
             << "  rooms precision   " << show(s.rooms_precision, "") << "\n"

@@ -46,7 +46,7 @@ struct SceneGraphScore {
   /// label, misplaced.
   size_t objects_correct = 0, objects_duplicates = 0, objects_wrong_label = 0,
          objects_misplaced = 0;
-  std::vector<ScoredObject> objects;  ///< every estimated object, in the graph's order
+  std::vector<ScoredObject> objects;      ///< every estimated object, in the graph's order
   std::vector<ScoredKeyframe> keyframes;  ///< every keyframe with a true pose, in the graph's order
   size_t matched_keyframes = 0;
   bool aligned_by_trajectory = false;  ///< false: placed by robot 0's true start pose
