@@ -12,10 +12,10 @@
 //            centre; Hydra's test), nearest first.
 // Object candidates are then checked by ICP of the source object's mesh vertices onto the
 // target's (refineObjectMerges, registration/icp.h): a pair whose surfaces do not fit (too few
-// vertices paired, too large an error, too large a shift) is dropped; for the others ICP's
-// transform gives the merge factor's measurement. Each candidate becomes a robust factor of the
-// deformation graph (deformation_graph.h): the relative pose ICP found, or for places (and objects
-// without vertices) the two nodes at one position. The backend proposes on the map its loop
+// vertices paired, too large an error, the copy moved or turned too far) is dropped; for the others
+// ICP's transform gives the merge factor's measurement. Each candidate becomes a robust factor of
+// the deformation graph (deformation_graph.h): the relative pose ICP found, or for places (and
+// objects without vertices) the two nodes at one position. The backend proposes on the map its loop
 // closures optimized and holds the factors out of GNC, keeping those that fit its result
 // (backend.h). NodeReconciliation then merges the kept candidates, unless fewer than
 // min_valid_share of the proposed ones were kept: then none of this round's merges is made (the
