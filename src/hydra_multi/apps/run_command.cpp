@@ -213,6 +213,9 @@ int runRun(const RunOptions& o) {
             << "  objects found         " << show(score.objects_found_pct, 1) << " %\n"
             << "  objects correct       " << show(score.objects_correct_pct, 1) << " % ("
             << score.num_objects << " objects, threshold " << score.object_threshold_m << " m)\n"
+            << "    of which            " << score.objects_correct << " correct ("
+            << score.objects_duplicates << " duplicates), " << score.objects_wrong_label
+            << " wrong label, " << score.objects_misplaced << " misplaced\n"
             << "  places error          " << show(score.places_position_error_m, 3) << " m\n"
             << "  rooms                 " << score.num_rooms << ", precision "
             << show(score.rooms_precision, 2) << ", recall " << show(score.rooms_recall, 2) << "\n"
