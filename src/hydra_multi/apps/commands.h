@@ -60,6 +60,9 @@ struct SimulateOptions {
   std::string out;
   std::optional<int> robots;  ///< the preset's team size when absent
   double scale = 1.0;
+  /// Each robot's chance of labelling an object as its look-alike class (the preset's 0.1 when
+  /// absent; 0 as with ground-truth segmentation, like the paper's uHumans2).
+  std::optional<double> label_confusion;
   bool quiet = false;  ///< no progress lines on stderr
 };
 int runSimulate(const SimulateOptions& options);
@@ -108,6 +111,7 @@ struct TrialsOptions {
   double speed = 0.0;
   bool redo = false;  ///< run again where a run's metrics.json exists
   std::string config;
+  std::optional<double> label_confusion;  ///< simulate's --label-confusion for the datasets
 };
 int runTrials(const TrialsOptions& options);
 /// The methods `trials` knows: full, the ablations and the baselines of `run`.

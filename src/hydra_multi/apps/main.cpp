@@ -120,6 +120,11 @@ int main(int argc, char** argv) {
   simulate_cmd->add_option("--scale", simulate.scale, "rooms along the corridor, times S")
       ->check(CLI::Range(0.25, 4.0))
       ->capture_default_str();
+  simulate_cmd
+      ->add_option("--label-confusion", simulate.label_confusion,
+                   "chance that a robot labels an object as its look-alike class (default: the "
+                   "preset's, 0.1; 0 as with ground-truth segmentation)")
+      ->check(CLI::Range(0.0, 1.0));
   simulate_cmd->add_flag("--quiet", simulate.quiet, "no progress lines on stderr");
 
   EvaluateOptions evaluate;
@@ -211,6 +216,10 @@ int main(int argc, char** argv) {
   trials_cmd->add_option("--config", trials.config, "station configuration for every run")
       ->check(CLI::ExistingFile);
   trials_cmd->add_flag("--redo", trials.redo, "run again where a run's metrics.json exists");
+  trials_cmd
+      ->add_option("--label-confusion", trials.label_confusion,
+                   "simulate the datasets with this label confusion (see simulate)")
+      ->check(CLI::Range(0.0, 1.0));
 
   CLI11_PARSE(app, argc, argv);
   if (*trials_cmd) {

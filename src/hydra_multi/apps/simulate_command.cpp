@@ -20,6 +20,8 @@ int runSimulate(const SimulateOptions& o) {
   };
   auto config = sim::presetConfig(o.preset, o.seed, o.robots, o.scale);
   if (!config) return fail(config.error());
+  if (o.label_confusion)
+    config.value().mapper.detection.confusion_probability = *o.label_confusion;
   const auto progress = [&](const std::string& line) {
     if (!o.quiet)
       std::cerr << "[" << std::fixed << std::setprecision(1) << elapsed() << " s] " << line

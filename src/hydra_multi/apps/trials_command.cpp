@@ -10,6 +10,7 @@
 //   DIR/backend_time.svg  backend seconds per round against deformation-graph poses;
 //   DIR/trials.json       every run's metrics.
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -52,6 +53,16 @@ Result<TrialRun> readRun(const fs::path& dir, const std::string& method, uint64_
   return run;
 }
 
+// The label confusion a dataset was simulated with (dataset.json's parameters).
+Result<double> simulatedLabelConfusion(const fs::path& dataset_json) {
+  std::ifstream in(dataset_json);
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  const nlohmann::json::json_pointer at("/parameters/mapper/detection/confusion_probability");
+  if (j.is_discarded() || !j.contains(at) || !j.at(at).is_number())
+    return Error{dataset_json.string() + ": no parameters/mapper/detection/confusion_probability"};
+  return j.at(at).get<double>();
+}
+
 std::string show(const TrialRun& run, const std::string& key, int decimals) {
   const auto it = run.metrics.find(key);
   if (it == run.metrics.end()) return "n/a";
@@ -77,6 +88,15 @@ int runTrials(const TrialsOptions& o) {
   std::vector<TrialRun> runs;
   for (uint64_t seed = o.first_seed; seed <= o.last_seed; ++seed) {
     const fs::path dataset = out / "datasets" / (o.preset + "-" + std::to_string(seed));
+    if (fs::exists(dataset / "dataset.json") && o.label_confusion) {
+      // A dataset is reused: it must be the one asked for.
+      const auto simulated = simulatedLabelConfusion(dataset / "dataset.json");
+      if (!simulated) return fail(simulated.error());
+      if (std::abs(simulated.value() - *o.label_confusion) > 1e-12)
+        return fail((dataset / "dataset.json").string() + " was simulated with label confusion " +
+                    std::to_string(simulated.value()) + ", not " +
+                    std::to_string(*o.label_confusion) + "; use another --out");
+    }
     if (!fs::exists(dataset / "dataset.json")) {
       std::cerr << "trials: simulating " << o.preset << " seed " << seed << std::endl;
       SimulateOptions simulate;
@@ -84,6 +104,7 @@ int runTrials(const TrialsOptions& o) {
       simulate.seed = seed;
       simulate.out = dataset.string();
       simulate.quiet = true;
+      simulate.label_confusion = o.label_confusion;
       std::ostringstream discard;
       std::streambuf* old = std::cout.rdbuf(discard.rdbuf());
       const int code = runSimulate(simulate);
