@@ -126,5 +126,34 @@ TEST(Reconciliation, ObjectMergesCheckedByIcpFarFromTheOrigin) {
   }
 }
 
+// Robot b's alignment is 30 degrees off in yaw (about the object) and a solve corrected it: the
+// candidate is checked where the solve put b's object. Without the solve's motion the copies
+// look 30 degrees apart and the pair is dropped; with it the pair is kept and barely turned.
+TEST(Reconciliation, ObjectMergesCheckedWhereTheSolveMovedThem) {
+  const Eigen::Vector3d size(1.2, 0.6, 0.9);
+  Eigen::Isometry3d at = Eigen::Isometry3d::Identity();
+  at.translation() = Eigen::Vector3d(6.0, 3.0, 0.5);
+  Eigen::Isometry3d yaw_error = Eigen::Isometry3d::Identity();
+  yaw_error.linear() = Eigen::AngleAxisd(30.0 * M_PI / 180.0, Eigen::Vector3d::UnitZ()).matrix();
+  yaw_error = at * yaw_error * at.inverse();  // about the object's centre
+  SceneGraph g;
+  Mesh mesh_a, mesh_b;
+  meshedObject(g, mesh_a, kA, 0, at, size);
+  meshedObject(g, mesh_b, kB, 0, at, size);  // robot b's frame is the global one
+  const std::map<RobotId, Eigen::Isometry3d> T = {{kA, Eigen::Isometry3d::Identity()},
+                                                  {kB, yaw_error}};
+  const std::map<RobotId, const Mesh*> meshes = {{kA, &mesh_a}, {kB, &mesh_b}};
+  const std::vector<MergeCandidate> candidate = {
+      {NodeId::station('O', kA, 0), NodeId::station('O', kB, 0), Layer::kObjects, {}}};
+  const std::map<NodeId, Eigen::Isometry3d> moved = {{NodeId::station('O', kB, 0),
+                                                      yaw_error.inverse()}};
+  EXPECT_TRUE(refineObjectMerges(candidate, g, T, meshes).empty());
+  const auto kept = refineObjectMerges(candidate, g, T, meshes, {}, &moved);
+  ASSERT_EQ(kept.size(), 1u);
+  ASSERT_TRUE(kept[0].T_target_source.has_value());
+  EXPECT_LT(kept[0].T_target_source->translation().norm(), 0.02);
+  EXPECT_LT(Eigen::AngleAxisd(kept[0].T_target_source->linear()).angle(), 0.01);
+}
+
 }  // namespace
 }  // namespace hydra_multi

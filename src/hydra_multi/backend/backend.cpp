@@ -9,12 +9,17 @@
 namespace hydra_multi {
 namespace {
 
-// Global positions of the aligned robots' places and objects after a solve of `graph`: places as
-// solved, objects moved as their robot's nearest keyframe moved.
-std::map<NodeId, Eigen::Vector3d> optimizedPositions(
-    const SceneGraph& frontend, const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
-    const DeformationGraph& graph, const DeformationResult& solved) {
+// Where a solve of `graph` put the aligned robots' places and objects: places as solved, objects
+// moved as their robot's nearest keyframe moved (`motion`: that rigid motion, global frame).
+struct SolvedNodes {
   std::map<NodeId, Eigen::Vector3d> positions;
+  std::map<NodeId, Eigen::Isometry3d> motion;
+};
+SolvedNodes solvedNodes(const SceneGraph& frontend,
+                        const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
+                        const DeformationGraph& graph, const DeformationResult& solved) {
+  SolvedNodes nodes;
+  auto& positions = nodes.positions;
   for (const auto& [robot, T] : T_global_robot) {
     std::vector<Eigen::Vector3d> keyframe_positions;
     std::vector<Eigen::Isometry3d> motion;  // optimized * initial^-1, per keyframe
@@ -35,10 +40,12 @@ std::map<NodeId, Eigen::Vector3d> optimizedPositions(
     const NearestNeighbors near(keyframe_positions);
     for (const NodeId id : objects) {
       const Eigen::Vector3d aligned = T * frontend.getNode(id).position;
-      positions[id] = motion[near.nearest(aligned).front().index] * aligned;
+      const Eigen::Isometry3d& moved = motion[near.nearest(aligned).front().index];
+      positions[id] = moved * aligned;
+      nodes.motion[id] = moved;
     }
   }
-  return positions;
+  return nodes;
 }
 
 }  // namespace
@@ -137,13 +144,12 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     skeleton.final_iterations = 0;
     const DeformationResult solved = optimizeDeformationGraph(first, skeleton, held_out);
     solved_poses = solved.poses;
-    const std::map<NodeId, Eigen::Vector3d> positions =
-        optimizedPositions(frontend, T_global_robot, first, solved);
+    const SolvedNodes nodes = solvedNodes(frontend, T_global_robot, first, solved);
     std::map<RobotId, const Mesh*> meshes;
     for (const BackendRobot* robot : included) meshes[robot->robot] = robot->mesh;
     candidates = refineObjectMerges(
-        proposeMerges(frontend, T_global_robot, options_.reconciliation, &positions), frontend,
-        T_global_robot, meshes, options_.reconciliation, &positions);
+        proposeMerges(frontend, T_global_robot, options_.reconciliation, &nodes.positions),
+        frontend, T_global_robot, meshes, options_.reconciliation, &nodes.motion);
   }
   const std::vector<PoseGraphEdge> merges =
       mergeFactors(candidates, T_global_robot, options_.reconciliation);

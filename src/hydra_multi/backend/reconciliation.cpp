@@ -101,24 +101,28 @@ std::vector<MergeCandidate> refineObjectMerges(
     std::vector<MergeCandidate> candidates, const SceneGraph& frontend,
     const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
     const std::map<RobotId, const Mesh*>& meshes, const ReconciliationOptions& options,
-    const std::map<NodeId, Eigen::Vector3d>* optimized) {
+    const std::map<NodeId, Eigen::Isometry3d>* moved) {
   if (!options.object_icp) return candidates;
-  // An object's vertices and its node pose as the deformation graph starts it, global frame.
+  // An object's vertices and its node pose (at its centre, turned as its robot's frame), global
+  // frame, moved as the solve moved it.
   const auto object = [&](NodeId id, std::vector<Eigen::Vector3d>& points,
                           Eigen::Isometry3d& pose) {
     const Node* node = frontend.findNode(id);
     const auto robot = id.sourceRobot();
     if (!node || !robot || !T_global_robot.count(*robot)) return false;
-    const Eigen::Isometry3d& T = T_global_robot.at(*robot);
+    Eigen::Isometry3d M = Eigen::Isometry3d::Identity();
+    if (moved != nullptr) {
+      if (const auto it = moved->find(id); it != moved->end()) M = it->second;
+    }
+    const Eigen::Isometry3d T = M * T_global_robot.at(*robot);
     pose = T;
-    pose.translation() = globalPosition(id, T * node->position, optimized);
-    const Eigen::Vector3d shift = pose.translation() - T * node->position;
+    pose.translation() = T * node->position;
     const auto mesh = meshes.find(*robot);
     const ObjectAttributes* attributes = node->find<ObjectAttributes>();
     if (mesh == meshes.end() || mesh->second == nullptr || attributes == nullptr) return true;
     for (const uint64_t v : attributes->mesh_vertices) {
       if (v < mesh->second->vertices.size())
-        points.push_back(T * mesh->second->vertices[v].position.cast<double>() + shift);
+        points.push_back(T * mesh->second->vertices[v].position.cast<double>());
     }
     return true;
   };

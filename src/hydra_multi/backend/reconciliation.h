@@ -74,11 +74,14 @@ std::vector<MergeCandidate> proposeMerges(
 
 /// Checks the object candidates by ICP on their mesh vertices (`meshes`: each robot's, in its own
 /// frame); drops those that do not fit and gives the others their measurement. Places pass.
+/// `moved`, when given, holds per object the rigid motion (global frame) a solve applied to it
+/// after the alignment: its vertices and node are moved by it before ICP, rotation included, so
+/// an alignment's yaw error that the solve corrected does not turn one copy against the other.
 std::vector<MergeCandidate> refineObjectMerges(
     std::vector<MergeCandidate> candidates, const SceneGraph& frontend,
     const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
     const std::map<RobotId, const Mesh*>& meshes, const ReconciliationOptions& options = {},
-    const std::map<NodeId, Eigen::Vector3d>* optimized = nullptr);
+    const std::map<NodeId, Eigen::Isometry3d>* moved = nullptr);
 
 /// The merge factors: ICP's measurement where there is one, else zero translation (with the
 /// rotation the alignment gives, weighted unmeasured_rotation_variance).
