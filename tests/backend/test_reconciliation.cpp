@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "hydra_multi/backend/reconciliation.h"
+#include "support/object_shapes.h"
 
 namespace hydra_multi {
 namespace {
@@ -60,25 +61,12 @@ TEST(Reconciliation, ProposesOverlappingPlacesAndObjects) {
   EXPECT_NEAR(Eigen::AngleAxisd(factors[0].T_from_to.linear()).angle(), 0.5, 1e-12);
 }
 
-// A 0.75 x 0.75 x 0.9 m box's vertices on a 0.3 m lattice, about its centre.
-std::vector<Eigen::Vector3d> boxVertices(const Eigen::Vector3d& size) {
-  std::vector<Eigen::Vector3d> points;
-  for (double x = 0.0; x <= size.x() + 1e-9; x += size.x() / 3)
-    for (double y = 0.0; y <= size.y() + 1e-9; y += size.y() / 3)
-      for (double z = 0.0; z <= size.z() + 1e-9; z += size.z() / 3) {
-        const Eigen::Vector3d p(x, y, z);
-        if (((p.array() < 1e-9) || (p.array() > size.array() - 1e-9)).any())
-          points.push_back(p - 0.5 * size);
-      }
-  return points;
-}
-
 // An object with its vertices (moved by `pose` about its centre) in a robot's graph and mesh.
 void meshedObject(SceneGraph& g, Mesh& mesh, RobotId robot, uint64_t index,
                   const Eigen::Isometry3d& pose, const Eigen::Vector3d& size) {
   object(g, robot, index, pose.translation(), 6, 0.5 * size.maxCoeff());
   Node node = g.getNode(NodeId::station('O', robot, index));
-  for (const Eigen::Vector3d& p : boxVertices(size)) {
+  for (const Eigen::Vector3d& p : testing::latticeBoxVertices(size)) {
     node.find<ObjectAttributes>()->mesh_vertices.push_back(mesh.vertices.size());
     MeshVertex v;
     v.position = (pose * p).cast<float>();
@@ -145,8 +133,8 @@ TEST(Reconciliation, ObjectMergesCheckedWhereTheSolveMovedThem) {
   const std::map<RobotId, const Mesh*> meshes = {{kA, &mesh_a}, {kB, &mesh_b}};
   const std::vector<MergeCandidate> candidate = {
       {NodeId::station('O', kA, 0), NodeId::station('O', kB, 0), Layer::kObjects, {}}};
-  const std::map<NodeId, Eigen::Isometry3d> moved = {{NodeId::station('O', kB, 0),
-                                                      yaw_error.inverse()}};
+  const std::map<NodeId, Eigen::Isometry3d> moved = {
+      {NodeId::station('O', kB, 0), yaw_error.inverse()}};
   EXPECT_TRUE(refineObjectMerges(candidate, g, T, meshes).empty());
   const auto kept = refineObjectMerges(candidate, g, T, meshes, {}, &moved);
   ASSERT_EQ(kept.size(), 1u);

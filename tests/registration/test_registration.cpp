@@ -13,6 +13,7 @@
 #include "hydra_multi/registration/max_clique.h"
 #include "hydra_multi/registration/ransac.h"
 #include "hydra_multi/registration/tls_registration.h"
+#include "support/object_shapes.h"
 
 namespace hydra_multi {
 namespace {
@@ -281,16 +282,12 @@ TEST(Icp, RecoversFromPerturbedStart) {
 TEST(Icp, SparseObjectFarFromTheOrigin) {
   Eigen::Isometry3d far = Eigen::Isometry3d::Identity();
   far.translation() = Eigen::Vector3d(13.0, 40.0, -0.7);
-  // The vertices of a 0.75 x 0.75 x 0.9 m box meshed on a 0.3 m lattice (the simulator's).
+  // The vertices of a 0.75 x 0.75 x 0.9 m box meshed on a 0.3 m lattice (the simulator's), its
+  // corner at `far`.
   std::vector<Eigen::Vector3d> target, source;
   const Eigen::Vector3d size(0.75, 0.75, 0.9);
-  for (double x = 0.0; x <= size.x() + 1e-9; x += size.x() / 3)
-    for (double y = 0.0; y <= size.y() + 1e-9; y += size.y() / 3)
-      for (double z = 0.0; z <= size.z() + 1e-9; z += size.z() / 3) {
-        const Eigen::Vector3d p(x, y, z);
-        const bool on_face = ((p.array() < 1e-9) || (p.array() > size.array() - 1e-9)).any();
-        if (on_face) target.push_back(far * p);
-      }
+  for (const Eigen::Vector3d& p : testing::latticeBoxVertices(size))
+    target.push_back(far * (p + 0.5 * size));
   Vector6d xi;
   xi << 0.2, -0.15, 0.0, 0.0, 0.0, 0.07;
   // The true motion turns about the object's own centre, as drift between two robots does.

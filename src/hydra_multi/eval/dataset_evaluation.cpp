@@ -89,7 +89,8 @@ SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundT
   for (ScoredKeyframe& k : score.keyframes) k.position_world = T_world_graph * k.position_world;
 
   std::vector<LabelledPoint> objects;
-  for (const NodeId id : graph.nodesInLayer(Layer::kObjects)) {
+  const auto object_ids = graph.nodesInLayer(Layer::kObjects);
+  for (const NodeId id : object_ids) {
     const Node& node = graph.getNode(id);
     objects.push_back({node.semantic()->label, T_world_graph * node.position});
   }
@@ -102,11 +103,9 @@ SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundT
   score.objects_duplicates = object_metrics.duplicates;
   score.objects_wrong_label = object_metrics.wrong_label;
   score.objects_misplaced = object_metrics.misplaced;
-  size_t i = 0;
-  for (const NodeId id : graph.nodesInLayer(Layer::kObjects)) {
+  for (size_t i = 0; i < objects.size(); ++i) {
     score.objects.push_back(
-        {id, objects[i].label, objects[i].position, object_metrics.verdicts[i]});
-    ++i;
+        {object_ids[i], objects[i].label, objects[i].position, object_metrics.verdicts[i]});
   }
 
   std::vector<Eigen::Vector3d> places;

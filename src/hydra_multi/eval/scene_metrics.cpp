@@ -79,14 +79,14 @@ ObjectMetrics objectMetrics(const std::vector<LabelledPoint>& estimated,
   std::vector<Eigen::Vector3d> true_positions;
   for (const LabelledPoint& t : truth) true_positions.push_back(t.position);
   const NearestNeighbors index(true_positions);
+  const auto keepNearer = [](ObjectVerdict& v, const NearestNeighbors::Neighbor& n) {
+    if (v.true_index < 0 || n.distance < v.distance_m)
+      v = {v.kind, static_cast<int>(n.index), n.distance};
+  };
   std::set<int> matched_truth;
   for (const LabelledPoint& e : estimated) {
     const auto near = index.withinRadius(e.position, threshold_m);
     ObjectVerdict same_label, any_label;
-    const auto keepNearer = [](ObjectVerdict& v, const NearestNeighbors::Neighbor& n) {
-      if (v.true_index < 0 || n.distance < v.distance_m)
-        v = {v.kind, static_cast<int>(n.index), n.distance};
-    };
     for (const auto& n : near) {
       keepNearer(any_label, n);
       if (truth[n.index].label == e.label) keepNearer(same_label, n);
