@@ -186,29 +186,38 @@ TEST_F(TinyTeam, BaselinesWithoutJointOptimization) {
   EXPECT_LT(evaluateSceneGraph(given.graph(), *truth_).ate_rmse_m.value(), 1.0);
 }
 
-// A merge is recorded as the robot mapped its node: the node's position and the keyframe nearest
-// to it in the robot's own frame (a keyframe of another pass that the optimized map puts next to
-// the node, off by the drift left, would hand the check its error).
-TEST(MergeSideFinder, NearestKeyframeInTheRobotsOwnFrame) {
+// A merge is recorded as the robot mapped its node: the node's position and, in the robot's own
+// frame, the keyframe nearest to it among those of about the time the robot last updated it (a
+// keyframe of another pass, off by the drift between the passes, may lie nearer; the optimized
+// map's would hand the check the drift left).
+TEST(MergeSideFinder, NearestKeyframeOfTheNodesTimeInTheRobotsOwnFrame) {
   const RobotId robot(1);
   SceneGraph frontend;
-  for (uint64_t k = 0; k < 3; ++k) {
-    Node node = makeNode(NodeId::station(robot.prefix(), robot, k), Layer::kAgents,
-                         Eigen::Vector3d(5.0 * double(k), 0.0, 0.0));
-    node.find<AgentAttributes>()->timestamp_ns = static_cast<int64_t>(k + 1) * 1000000000;
+  // Keyframes 0-2 at t = 1-3 s along x; keyframe 3 at t = 100 s, a later pass that drift put
+  // 0.5 m from where the robot mapped the place.
+  const std::vector<Eigen::Vector3d> at = {
+      {0.0, 0.0, 0.0}, {5.0, 0.0, 0.0}, {10.0, 0.0, 0.0}, {6.0, 1.5, 0.0}};
+  const std::vector<int64_t> stamps = {1000000000, 2000000000, 3000000000, 100000000000};
+  for (uint64_t k = 0; k < at.size(); ++k) {
+    Node node = makeNode(NodeId::station(robot.prefix(), robot, k), Layer::kAgents, at[k]);
+    node.find<AgentAttributes>()->timestamp_ns = stamps[k];
     node.find<AgentAttributes>()->orientation =
         Eigen::Quaterniond(Eigen::AngleAxisd(0.3 * double(k), Eigen::Vector3d::UnitZ()));
     frontend.addOrUpdateNode(node);
   }
   const NodeId place = NodeId::station('p', robot, 0);
-  frontend.addOrUpdateNode(makeNode(place, Layer::kPlaces, Eigen::Vector3d(6.0, 1.0, 0.0)));
-  const MergeSideFinder finder(frontend, robot);
+  Node mapped = makeNode(place, Layer::kPlaces, Eigen::Vector3d(6.0, 1.0, 0.0));
+  mapped.last_update_time_ns = 2000000000;
+  frontend.addOrUpdateNode(mapped);
+  const MergeSideFinder finder(frontend, robot, 10.0);
   const AcceptedMerge::Side side = finder.side(place);
   EXPECT_EQ(side.robot, robot);
   EXPECT_TRUE(side.position.isApprox(Eigen::Vector3d(6.0, 1.0, 0.0)));
   EXPECT_EQ(side.keyframe_stamp_ns, 2000000000);
   EXPECT_TRUE(side.T_robot_keyframe.translation().isApprox(Eigen::Vector3d(5.0, 0.0, 0.0)));
   EXPECT_NEAR(Eigen::AngleAxisd(side.T_robot_keyframe.linear()).angle(), 0.3, 1e-12);
+  // Without a window the later pass's keyframe, nearer, is taken.
+  EXPECT_EQ(MergeSideFinder(frontend, robot, 0.0).side(place).keyframe_stamp_ns, 100000000000);
   // A node the frontend does not hold: no keyframe.
   EXPECT_EQ(finder.side(NodeId::station('p', robot, 9)).keyframe_stamp_ns, -1);
 }

@@ -56,6 +56,7 @@ Robot drive(RobotId id, double start_angle, double yaw_drift, SceneGraph& fronte
     ControlPoint cp;
     cp.id = k;
     cp.position = r.odom[k] * Eigen::Vector3d(0, 1, 0);
+    cp.time_ns = static_cast<int64_t>(k) * 1000000000;
     cp.keyframe = kf;
     r.control_points.push_back(cp);
     if (k > 0) r.control_point_edges.push_back({k - 1, k});
@@ -129,6 +130,122 @@ TEST(DeformationGraph, LoopClosuresCorrectDriftAndOutliersAreRejected) {
   EXPECT_EQ(accepted_bad, 0u);
 }
 
+// A robot passes a corridor twice, and its odometry turned 3 degrees too little at the turn between
+// the passes: in its own map the way back runs onto the way out, up to 1 m at the far end, and the
+// control points it made on the way back sit beside, and are tied by its mesh edges to, those of
+// the way out at their drifted offsets. Loop closures with an exact robot along both passes hold
+// the truth. Ties only between what the robot made within link_max_dt_s of each other let the way
+// back go where the loop closures put it; ties of any age hold it at its drift.
+TEST(DeformationGraph, MeshTiesAcrossARevisitDoNotHoldTheDrift) {
+  constexpr int64_t kS = 1000000000;
+  const RobotId ra(0), rb(1);
+  SceneGraph frontend;
+  const auto pose = [](double x, double y, double yaw) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() << x, y, 0.0;
+    T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    return T;
+  };
+  struct Run {
+    std::vector<Eigen::Isometry3d> truth, odom;
+    std::vector<PoseGraphEdge> pose_graph;
+    std::vector<ControlPoint> control_points;
+    std::vector<ControlPointEdge> control_point_edges;
+  } a, b;
+  // a: along y = 0, exact. b: out along y = 0.5 (t = 0-20 s), back along y = -0.5 (t = 21-41 s).
+  for (int k = 0; k <= 20; ++k) a.truth.push_back(pose(k, 0.0, 0.0));
+  a.odom = a.truth;
+  for (int k = 0; k <= 20; ++k) b.truth.push_back(pose(k, 0.5, 0.0));
+  for (int k = 20; k >= 0; --k) b.truth.push_back(pose(k, -0.5, M_PI));
+  b.odom.push_back(Eigen::Isometry3d::Identity());
+  for (size_t k = 1; k < b.truth.size(); ++k) {
+    Eigen::Isometry3d step = b.truth[k - 1].inverse() * b.truth[k];
+    if (k == 21) step = step * pose(0, 0, -3.0 * M_PI / 180.0);
+    b.odom.push_back(b.odom.back() * step);
+  }
+  const auto kf = [](RobotId r, size_t k) { return NodeId::station(r.prefix(), r, k); };
+  for (const auto& [robot, run] : {std::pair<RobotId, Run*>{ra, &a}, {rb, &b}}) {
+    for (size_t k = 0; k < run->odom.size(); ++k) {
+      const int64_t t = static_cast<int64_t>(k) * kS;
+      Node node = makeNode(kf(robot, k), Layer::kAgents, run->odom[k].translation());
+      node.find<AgentAttributes>()->orientation = Eigen::Quaterniond(run->odom[k].linear());
+      node.find<AgentAttributes>()->timestamp_ns = t;
+      frontend.addOrUpdateNode(node);
+      if (k > 0) {
+        PoseGraphEdge e;
+        e.from = kf(robot, k - 1);
+        e.to = kf(robot, k);
+        e.T_from_to = run->odom[k - 1].inverse() * run->odom[k];
+        run->pose_graph.push_back(e);
+      }
+      // A control point 1 m to the side, away from the other lane.
+      run->control_points.push_back({k, run->odom[k] * Eigen::Vector3d(0, 1, 0), t, kf(robot, k)});
+      if (k > 0) run->control_point_edges.push_back({k - 1, k});
+    }
+  }
+  // b's mesh edges between its passes: each control point of the way back to the way out's
+  // nearest one in b's own map.
+  for (size_t k = 21; k < b.control_points.size(); ++k) {
+    size_t nearest = 0;
+    for (size_t j = 1; j <= 20; ++j) {
+      if ((b.control_points[j].position - b.control_points[k].position).norm() <
+          (b.control_points[nearest].position - b.control_points[k].position).norm())
+        nearest = j;
+    }
+    b.control_point_edges.push_back({nearest, k});
+  }
+  // A place b mapped on the way back, 0.6 m to the side of its keyframe 39 (x = 2); in b's map
+  // a keyframe of the way out lies nearer.
+  const NodeId place = NodeId::station('p', rb, 0);
+  const Eigen::Vector3d place_offset(0.0, -0.6, 0.0);
+  Node place_node = makeNode(place, Layer::kPlaces, b.odom[39] * place_offset);
+  place_node.last_update_time_ns = 39 * kS;
+  frontend.addOrUpdateNode(place_node);
+  size_t nearest_to_place = 0;
+  for (size_t k = 1; k < b.odom.size(); ++k) {
+    if ((b.odom[k].translation() - place_node.position).norm() <
+        (b.odom[nearest_to_place].translation() - place_node.position).norm())
+      nearest_to_place = k;
+  }
+  ASSERT_LE(nearest_to_place, 20u);
+  std::vector<PoseGraphEdge> inter;
+  for (size_t k = 0; k < b.truth.size(); k += 2) {
+    PoseGraphEdge e;
+    const size_t j = k <= 20 ? k : 41 - k;  // a's keyframe beside b's
+    e.from = kf(ra, j);
+    e.to = kf(rb, k);
+    e.T_from_to = a.truth[j].inverse() * b.truth[k];
+    inter.push_back(e);
+  }
+  const std::vector<RobotDeformationInput> inputs = {
+      {ra, Eigen::Isometry3d::Identity(), &a.pose_graph, &a.control_points,
+       &a.control_point_edges},
+      {rb, b.truth.front(), &b.pose_graph, &b.control_points, &b.control_point_edges}};
+  // The worst keyframe error of b and the place's error after the solve.
+  const auto errors = [&](double link_max_dt_s) {
+    DeformationGraphOptions options;
+    options.link_max_dt_s = link_max_dt_s;
+    const DeformationGraph graph = buildDeformationGraph(frontend, inputs, inter, {}, options);
+    const DeformationResult result = optimizeDeformationGraph(graph, options);
+    double worst = 0.0;
+    for (size_t k = 0; k < b.truth.size(); ++k)
+      worst = std::max(worst, (result.poses.at(kf(rb, k)).translation() -
+                               b.truth[k].translation()).norm());
+    const double place_error =
+        (result.poses.at(place).translation() - b.truth[39] * place_offset).norm();
+    return std::make_pair(worst, place_error);
+  };
+  const double drift = (b.truth.front() * b.odom.back().translation() -
+                        b.truth.back().translation()).norm();
+  EXPECT_GT(drift, 0.9);
+  const auto [worst_keyframe, place_error] = errors(10.0);
+  EXPECT_LT(worst_keyframe, 0.15);
+  EXPECT_LT(place_error, 0.15);
+  const auto [worst_keyframe_any_age, place_error_any_age] = errors(0.0);
+  EXPECT_GT(worst_keyframe_any_age, 0.3);
+  EXPECT_GT(place_error_any_age, 0.3);
+}
+
 // Vertices follow their control points: a rigid motion of all of them moves the vertices by it;
 // no motion leaves them in place.
 TEST(DeformationGraph, MeshFollowsControlPoints) {
@@ -143,8 +260,9 @@ TEST(DeformationGraph, MeshFollowsControlPoints) {
   vertices[0].position = Eigen::Vector3f(1.3f, 2.2f, 0.4f);
   vertices[1].position = Eigen::Vector3f(3.9f, 0.1f, -0.2f);
   vertices[2].position = Eigen::Vector3f(2.0f, 2.0f, 0.0f);
+  const std::vector<int64_t> times(initial.size(), 0);
   std::vector<MeshVertex> same = vertices;
-  deformMesh(same, initial, initial);
+  deformMesh(same, initial, initial, times, 10.0);
   for (size_t i = 0; i < vertices.size(); ++i)
     EXPECT_LT((same[i].position - vertices[i].position).norm(), 1e-5);
   Vector6d xi;
@@ -153,11 +271,50 @@ TEST(DeformationGraph, MeshFollowsControlPoints) {
   std::vector<Eigen::Isometry3d> moved;
   for (const Eigen::Isometry3d& T : initial) moved.push_back(motion * T);
   std::vector<MeshVertex> carried = vertices;
-  deformMesh(carried, initial, moved);
+  deformMesh(carried, initial, moved, times, 10.0);
   for (size_t i = 0; i < vertices.size(); ++i) {
     const Eigen::Vector3d expected = motion * vertices[i].position.cast<double>();
     EXPECT_LT((carried[i].position.cast<double>() - expected).norm(), 1e-5);
   }
+}
+
+// Two passes of one robot over the same place, each with its control points, moved differently by
+// the solve: a vertex moves with the control points of its own pass, made within the window of
+// its time, though the other pass's lie as near.
+TEST(DeformationGraph, MeshVerticesFollowTheControlPointsOfTheirTime) {
+  constexpr int64_t kS = 1000000000;
+  std::vector<Eigen::Isometry3d> initial, optimized;
+  std::vector<int64_t> times;
+  const Eigen::Isometry3d first_motion(Eigen::Translation3d(0.5, 0.0, 0.0));
+  const Eigen::Isometry3d second_motion(Eigen::Translation3d(0.0, -0.8, 0.0));
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int x = 0; x < 4; ++x) {
+      for (int y = 0; y < 4; ++y) {
+        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+        T.translation() << x + 0.05 * pass, y, 0.0;
+        initial.push_back(T);
+        optimized.push_back((pass == 0 ? first_motion : second_motion) * T);
+        times.push_back(pass == 0 ? 5 * kS : 200 * kS);
+      }
+    }
+  }
+  MeshVertex vertex;
+  vertex.position = Eigen::Vector3f(1.4f, 1.6f, 0.2f);
+  for (const auto& [time, motion] :
+       {std::pair<int64_t, Eigen::Isometry3d>{3 * kS, first_motion}, {205 * kS, second_motion}}) {
+    std::vector<MeshVertex> vertices = {vertex};
+    vertices[0].time_ns = time;
+    deformMesh(vertices, initial, optimized, times, 10.0);
+    const Eigen::Vector3d expected = motion * vertex.position.cast<double>();
+    EXPECT_LT((vertices[0].position.cast<double>() - expected).norm(), 1e-5);
+  }
+  // Without the window the two passes' motions blend.
+  std::vector<MeshVertex> blended = {vertex};
+  blended[0].time_ns = 205 * kS;
+  deformMesh(blended, initial, optimized, times, 0.0);
+  EXPECT_GT((blended[0].position.cast<double>() - second_motion * vertex.position.cast<double>())
+                .norm(),
+            0.1);
 }
 
 }  // namespace

@@ -63,5 +63,37 @@ TEST(NearestNeighbors, EmptyAndSmallSets) {
   EXPECT_DOUBLE_EQ(all[1].distance, 3.0);
 }
 
+// A robot's two passes over one place: the query counts only the points made within the window of
+// its time, nearest first, even where the other pass's points lie nearer.
+TEST(TimedNeighbors, OnlyPointsOfAboutTheQuerysTime) {
+  constexpr int64_t kS = 1000000000;
+  // Indices 0-2: the first pass at t = 0-2 s; 3-4: the second at t = 100-101 s, 0.1 m away.
+  const std::vector<Eigen::Vector3d> points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0},
+                                               {0.1, 0, 0}, {1.1, 0, 0}};
+  const std::vector<int64_t> times = {0, 1 * kS, 2 * kS, 100 * kS, 101 * kS};
+  const TimedNeighbors timed(points, times, 10 * kS);
+  EXPECT_EQ(timed.size(), 5u);
+  const auto first = timed.nearest(Eigen::Vector3d(0.12, 0, 0), 1 * kS, 2);
+  ASSERT_EQ(first.size(), 2u);
+  EXPECT_EQ(first[0].index, 0u);
+  EXPECT_EQ(first[1].index, 1u);
+  EXPECT_NEAR(first[0].distance, 0.12, 1e-12);
+  const auto second = timed.nearest(Eigen::Vector3d(0.12, 0, 0), 95 * kS, 5);
+  ASSERT_EQ(second.size(), 2u);  // the window holds two
+  EXPECT_EQ(second[0].index, 3u);
+  EXPECT_EQ(second[1].index, 4u);
+  // No point within 10 s of t = 50 s: the window moves to the nearest time with points, 2 s
+  // (48 s away; 100 s is 50 s away), the first pass.
+  const auto between = timed.nearest(Eigen::Vector3d(0.12, 0, 0), 50 * kS, 1);
+  ASSERT_EQ(between.size(), 1u);
+  EXPECT_EQ(between[0].index, 0u);
+  // Without a window every point counts.
+  const TimedNeighbors any(points, times, 0);
+  EXPECT_EQ(any.nearest(Eigen::Vector3d(0.12, 0, 0), 1 * kS).front().index, 3u);
+  EXPECT_EQ(any.size(), 5u);
+  EXPECT_TRUE(TimedNeighbors({}, {}, 10 * kS).nearest(Eigen::Vector3d::Zero(), 0).empty());
+  EXPECT_THROW(TimedNeighbors(points, {0}, 10 * kS), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace hydra_multi

@@ -16,7 +16,7 @@ TEST(StationConfig, KeysSetOptions) {
       "alignment": {"min_inliers": 7, "sigma_translation_m": 0.25, "realign_threshold_m": 4,
                     "weigh_support": false},
       "deformation": {"two_stage": false, "final_iterations": 0, "mesh_variance": 0.001,
-                      "gnc_mu_step": 2.0},
+                      "gnc_mu_step": 2.0, "link_max_dt_s": 0, "odometry_rotation_variance": 0.01},
       "reconciliation": {"enabled": false, "place_max_distance": 0.6},
       "rooms": {"enabled": false, "min_room_places": 4}})",
                                       "test.json", options);
@@ -33,6 +33,8 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_EQ(options.backend.deformation.final_iterations, 0);
   EXPECT_DOUBLE_EQ(options.backend.deformation.mesh_variance, 0.001);
   EXPECT_DOUBLE_EQ(options.backend.deformation.solver.gnc.mu_step, 2.0);
+  EXPECT_DOUBLE_EQ(options.backend.deformation.link_max_dt_s, 0.0);
+  EXPECT_DOUBLE_EQ(options.backend.deformation.odometry_rotation_variance, 0.01);
   EXPECT_FALSE(options.backend.reconcile);
   EXPECT_DOUBLE_EQ(options.backend.reconciliation.place_max_distance, 0.6);
   EXPECT_FALSE(options.backend.segment_rooms);

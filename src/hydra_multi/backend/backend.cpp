@@ -17,11 +17,13 @@ struct SolvedNodes {
 };
 SolvedNodes solvedNodes(const SceneGraph& frontend,
                         const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
-                        const DeformationGraph& graph, const DeformationResult& solved) {
+                        const DeformationGraph& graph, const DeformationResult& solved,
+                        double window_s) {
   SolvedNodes nodes;
   auto& positions = nodes.positions;
   for (const auto& [robot, T] : T_global_robot) {
     std::vector<Eigen::Vector3d> keyframe_positions;
+    std::vector<int64_t> keyframe_times;
     std::vector<Eigen::Isometry3d> motion;  // optimized * initial^-1, per keyframe
     std::vector<NodeId> objects;
     for (const NodeId id : frontend.nodesOfRobot(robot)) {
@@ -29,6 +31,7 @@ SolvedNodes solvedNodes(const SceneGraph& frontend,
       const auto solved_pose = solved.poses.find(id);
       if (layer == Layer::kAgents && solved_pose != solved.poses.end()) {
         keyframe_positions.push_back(graph.initial.at(id).translation());
+        keyframe_times.push_back(frontend.getNode(id).find<AgentAttributes>()->timestamp_ns);
         motion.push_back(solved_pose->second * graph.initial.at(id).inverse());
       } else if (layer == Layer::kPlaces && solved_pose != solved.poses.end()) {
         positions[id] = solved_pose->second.translation();
@@ -37,10 +40,12 @@ SolvedNodes solvedNodes(const SceneGraph& frontend,
       }
     }
     if (keyframe_positions.empty()) continue;
-    const NearestNeighbors near(keyframe_positions);
+    const TimedNeighbors near(keyframe_positions, keyframe_times, windowNs(window_s));
     for (const NodeId id : objects) {
-      const Eigen::Vector3d aligned = T * frontend.getNode(id).position;
-      const Eigen::Isometry3d& moved = motion[near.nearest(aligned).front().index];
+      const Node& object = frontend.getNode(id);
+      const Eigen::Vector3d aligned = T * object.position;
+      const Eigen::Isometry3d& moved =
+          motion[near.nearest(aligned, object.last_update_time_ns).front().index];
       positions[id] = moved * aligned;
       nodes.motion[id] = moved;
     }
@@ -50,16 +55,18 @@ SolvedNodes solvedNodes(const SceneGraph& frontend,
 
 }  // namespace
 
-MergeSideFinder::MergeSideFinder(const SceneGraph& frontend, RobotId robot)
+MergeSideFinder::MergeSideFinder(const SceneGraph& frontend, RobotId robot, double window_s)
     : frontend_(frontend), robot_(robot) {
   std::vector<Eigen::Vector3d> positions;
+  std::vector<int64_t> times;
   for (const NodeId id : frontend.nodesOfRobot(robot)) {
     const Node& node = frontend.getNode(id);
     if (node.layer() != Layer::kAgents || node.find<AgentAttributes>() == nullptr) continue;
     keyframes_.push_back(&node);
     positions.push_back(node.position);
+    times.push_back(node.find<AgentAttributes>()->timestamp_ns);
   }
-  near_ = std::make_unique<NearestNeighbors>(positions);
+  near_ = std::make_unique<TimedNeighbors>(positions, times, windowNs(window_s));
 }
 
 AcceptedMerge::Side MergeSideFinder::side(NodeId id) const {
@@ -68,7 +75,7 @@ AcceptedMerge::Side MergeSideFinder::side(NodeId id) const {
   const Node* node = frontend_.findNode(id);
   if (node == nullptr) return s;
   s.position = node->position;
-  const auto nearest = near_->nearest(s.position);
+  const auto nearest = near_->nearest(s.position, node->last_update_time_ns);
   if (nearest.empty()) return s;
   const Node& keyframe = *keyframes_[nearest.front().index];
   s.keyframe_stamp_ns = keyframe.find<AgentAttributes>()->timestamp_ns;
@@ -144,7 +151,8 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     skeleton.final_iterations = 0;
     const DeformationResult solved = optimizeDeformationGraph(first, skeleton, held_out);
     solved_poses = solved.poses;
-    const SolvedNodes nodes = solvedNodes(frontend, T_global_robot, first, solved);
+    const SolvedNodes nodes = solvedNodes(frontend, T_global_robot, first, solved,
+                                          options_.deformation.link_max_dt_s);
     std::map<RobotId, const Mesh*> meshes;
     for (const BackendRobot* robot : included) meshes[robot->robot] = robot->mesh;
     candidates = refineObjectMerges(
@@ -184,6 +192,7 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     const Eigen::Isometry3d& T = inputs[r].T_global_robot;
     // Control points before and after, for the mesh and for objects without vertices.
     std::vector<Eigen::Isometry3d> cp_initial, cp_optimized;
+    std::vector<int64_t> cp_times;
     if (robot.control_points != nullptr) {
       for (const ControlPoint& cp : *robot.control_points) {
         const NodeId id = controlPointId(robot.robot, cp.id);
@@ -192,6 +201,7 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
         if (a == dg.initial.end() || b == result.poses.end()) continue;
         cp_initial.push_back(a->second);
         cp_optimized.push_back(b->second);
+        cp_times.push_back(cp.time_ns);
       }
     }
     // The mesh: aligned, then deformed.
@@ -202,11 +212,13 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
         before.push_back(v);
       }
       after = before;
-      deformMesh(after, cp_initial, cp_optimized, options_.mesh_neighbours);
+      deformMesh(after, cp_initial, cp_optimized, cp_times, options_.deformation.link_max_dt_s,
+                 options_.mesh_neighbours);
     }
     std::vector<Eigen::Vector3d> cp_centres;
     for (const Eigen::Isometry3d& c : cp_initial) cp_centres.push_back(c.translation());
-    const NearestNeighbors near_cp(cp_centres);
+    const TimedNeighbors near_cp(cp_centres, cp_times,
+                                 windowNs(options_.deformation.link_max_dt_s));
     const uint64_t vertex_offset = graph.mesh().vertices.size();
     int64_t first_time = std::numeric_limits<int64_t>::max();
     for (const NodeId id : frontend.nodesOfRobot(robot.robot)) {
@@ -235,7 +247,8 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
         if (counted > 0) {
           shift /= double(counted);
         } else if (!cp_centres.empty()) {
-          const size_t c = near_cp.nearest(aligned_position).front().index;
+          const size_t c =
+              near_cp.nearest(aligned_position, node.last_update_time_ns).front().index;
           shift = cp_optimized[c] * (cp_initial[c].inverse() * aligned_position) - aligned_position;
         }
         node.position = aligned_position + shift;
@@ -277,7 +290,11 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     const auto side = [&](NodeId id) {
       const RobotId robot = id.sourceRobot().value_or(RobotId(0));
       auto it = sides.find(robot);
-      if (it == sides.end()) it = sides.emplace(robot, MergeSideFinder(frontend, robot)).first;
+      if (it == sides.end()) it = sides
+                 .emplace(std::piecewise_construct, std::forward_as_tuple(robot),
+                          std::forward_as_tuple(frontend, robot,
+                                                options_.deformation.link_max_dt_s))
+                 .first;
       return it->second.side(id);
     };
     for (const MergeCandidate* c : kept) {

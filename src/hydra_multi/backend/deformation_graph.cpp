@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <limits>
 #include <set>
 
@@ -51,6 +52,7 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
   for (const RobotDeformationInput& input : robots) {
     const Eigen::Isometry3d& T = input.T_global_robot;
     std::map<NodeId, Eigen::Isometry3d> local;  // keyframes in the robot's frame
+    std::map<NodeId, int64_t> keyframe_time;
     std::vector<NodeId> places;
     NodeId first;
     int64_t first_time = std::numeric_limits<int64_t>::max();
@@ -60,6 +62,7 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
         local[id] = nodePose(node);
         dg.initial[id] = T * local[id];
         const int64_t t = node.find<AgentAttributes>()->timestamp_ns;
+        keyframe_time[id] = t;
         if (t < first_time) {
           first_time = t;
           first = id;
@@ -80,30 +83,32 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
               closure ? options.loop_closure_variance : options.odometry_variance;
           e.information = informationFromVariances(variance, variance);
         }
-        dg.graph.edges.push_back(e);
         if (!closure) {
-          // The skeleton's odometry: rotations as stiff as the lattice holds them.
           e.information.block<3, 3>(0, 3).setZero();
           e.information.block<3, 3>(3, 0).setZero();
           e.information.block<3, 3>(3, 3) =
-              Eigen::Matrix3d::Identity() / options.skeleton_rotation_variance;
+              Eigen::Matrix3d::Identity() / options.odometry_rotation_variance;
         }
+        dg.graph.edges.push_back(e);
         dg.skeleton.edges.push_back(e);
         if (closure) ++dg.robust_factors;
       }
     }
     // Mesh control points, their rigidity and the keyframes that observed them.
+    const int64_t window = windowNs(options.link_max_dt_s);
     std::vector<Eigen::Vector3d> cp_positions;
+    std::vector<int64_t> cp_times;
     std::vector<NodeId> cp_ids;
-    std::map<uint64_t, Eigen::Vector3d> cp_by_index;
+    std::map<uint64_t, const ControlPoint*> cp_by_index;
     if (input.control_points != nullptr) {
       for (const ControlPoint& cp : *input.control_points) {
         const NodeId id = controlPointId(input.robot, cp.id);
         dg.initial[id] = T * at(cp.position);
         control_points.insert(id);
         cp_positions.push_back(cp.position);
+        cp_times.push_back(cp.time_ns);
         cp_ids.push_back(id);
-        cp_by_index[cp.id] = cp.position;
+        cp_by_index[cp.id] = &cp;
         const auto keyframe = local.find(cp.keyframe);
         if (keyframe != local.end()) {
           dg.observed_by[id] = cp.keyframe;
@@ -117,29 +122,34 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
       for (const ControlPointEdge& e : *input.control_point_edges) {
         const auto a = cp_by_index.find(e.from), b = cp_by_index.find(e.to);
         if (a == cp_by_index.end() || b == cp_by_index.end()) continue;
+        if (window > 0 && std::abs(a->second->time_ns - b->second->time_ns) > window) continue;
         dg.graph.edges.push_back(edge(controlPointId(input.robot, e.from),
-                                      controlPointId(input.robot, e.to), at(b->second - a->second),
+                                      controlPointId(input.robot, e.to),
+                                      at(b->second->position - a->second->position),
                                       options.mesh_variance));
       }
     }
     // Places (and merge-candidate objects): linked to the nearest control point, or else the
-    // nearest keyframe.
-    const NearestNeighbors near_cp(cp_positions);
+    // nearest keyframe, of those the robot made about when it last updated the node.
+    const TimedNeighbors near_cp(cp_positions, cp_times, window);
     std::vector<Eigen::Vector3d> kf_positions;
+    std::vector<int64_t> kf_times;
     std::vector<NodeId> kf_ids;
     for (const auto& [id, pose] : local) {
       kf_positions.push_back(pose.translation());
+      kf_times.push_back(keyframe_time[id]);
       kf_ids.push_back(id);
     }
-    const NearestNeighbors near_kf(kf_positions);
+    const TimedNeighbors near_kf(kf_positions, kf_times, window);
     for (const NodeId place : places) {
-      const Eigen::Vector3d p = frontend.getNode(place).position;
+      const Node& node = frontend.getNode(place);
+      const Eigen::Vector3d p = node.position;
       dg.initial[place] = T * at(p);
-      const size_t k = near_kf.nearest(p).front().index;
+      const size_t k = near_kf.nearest(p, node.last_update_time_ns).front().index;
       const PoseGraphEdge to_keyframe =
           edge(kf_ids[k], place, local[kf_ids[k]].inverse() * at(p), options.mesh_variance);
       dg.skeleton.edges.push_back(to_keyframe);
-      const auto cp = near_cp.nearest(p);
+      const auto cp = near_cp.nearest(p, node.last_update_time_ns);
       if (!cp.empty() && cp.front().distance <= options.place_link_radius) {
         dg.graph.edges.push_back(edge(cp_ids[cp.front().index], place,
                                       at(p - cp_positions[cp.front().index]),
@@ -245,14 +255,17 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
 }
 
 void deformMesh(std::vector<MeshVertex>& vertices, const std::vector<Eigen::Isometry3d>& initial,
-                const std::vector<Eigen::Isometry3d>& optimized, size_t k) {
-  if (initial.empty() || initial.size() != optimized.size() || k == 0) return;
+                const std::vector<Eigen::Isometry3d>& optimized,
+                const std::vector<int64_t>& times_ns, double window_s, size_t k) {
+  if (initial.empty() || initial.size() != optimized.size() ||
+      initial.size() != times_ns.size() || k == 0)
+    return;
   std::vector<Eigen::Vector3d> centres;
   for (const Eigen::Isometry3d& T : initial) centres.push_back(T.translation());
-  const NearestNeighbors index(centres);
+  const TimedNeighbors index(centres, times_ns, windowNs(window_s));
   for (MeshVertex& vertex : vertices) {
     const Eigen::Vector3d v = vertex.position.cast<double>();
-    const auto nearest = index.nearest(v, k + 1);
+    const auto nearest = index.nearest(v, vertex.time_ns, k + 1);
     // d_max: the (k+1)-th neighbour's distance, so the k nearest all weigh more than zero.
     const double d_max =
         nearest.size() > k ? nearest[k].distance : nearest.back().distance * 1.01 + 1e-9;

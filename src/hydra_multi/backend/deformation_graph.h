@@ -9,11 +9,17 @@
 //            their nearest control point (or keyframe); robust: the robots' own loop closures,
 //            inter-robot loop closures and merge candidates (ReconciliationProposals), all under
 //            GNC.
+// The ties the station makes from one robot's map (rigidity, the links of places and objects,
+// a mesh vertex's control points) join only what the robot made close in time (link_max_dt_s):
+// a robot that revisits a place holds in its own map the drift between its passes, and a tie
+// across them holds that drift against the loop closures (office-3 seed 1, ties of any age: the
+// team's map turned 10 degrees about robot a's start, robot a's start room 1.5 m off, ATE 0.39 m).
 // Kimera-PGMO's variances: odometry 1e-2, loop closures 5e-2, mesh 1e-2 (information = 1/variance
-// on every axis). They replace the information the robots and the detector attach to their edges
-// (use_sent_information false): a robot's odometry information describes its random noise only,
-// not its biases, and would hold the trajectories too stiff for the loop closures to bend them
-// (measured: GNC then rejects correct inter-robot loop closures).
+// on every axis), but the odometry's rotation 1e-4 (odometry_rotation_variance). They replace the
+// information the robots and the detector attach to their edges (use_sent_information false): a
+// robot's odometry information describes its random noise only, not its biases, and would hold
+// the trajectories too stiff for the loop closures to bend them (measured: GNC then rejects
+// correct inter-robot loop closures).
 //
 // GNC runs on the graph's skeleton, then the whole graph is solved once with the factors GNC kept
 // (two_stage, the default). The skeleton holds the keyframes with their odometry, every robust
@@ -52,15 +58,24 @@ struct DeformationGraphOptions {
   double odometry_variance = 1e-2;
   double loop_closure_variance = 5e-2;
   double mesh_variance = 1e-2;
+  /// What the station ties together from one robot's map (two control points by mesh rigidity, a
+  /// place or object and the keyframe or control point it is linked to, a mesh vertex and the
+  /// control points it moves with) was made by the robot at most this far apart in time (s;
+  /// core/nearest_neighbors.h TimedNeighbors; Kimera-PGMO's tol_t). Across a revisit the robot's
+  /// map holds the drift between its passes, so a tie there would hold that drift against the
+  /// loop closures (office-3 seed 1: ATE 0.39 m with ties of any age). <= 0: no limit.
+  double link_max_dt_s = 10.0;
   bool use_sent_information = false;
   double place_link_radius = 3.0;  ///< m: a place links to a control point this close, else
                                    ///< to its nearest keyframe
   RobustPgoOptions solver;
   bool two_stage = true;  ///< GNC on the skeleton, then one solve of the whole graph
-  /// Odometry rotation variance in the skeleton: the stiffness the control-point lattice gives
-  /// the keyframes in the whole graph (with odometry_variance there, the bare keyframe chain bends
-  /// under the loop closures: office-3 seed 1, ATE 11.6 m against 0.62 m with 1e-4).
-  double skeleton_rotation_variance = 1e-4;
+  /// Rotation variance of the odometry, in both solves (its translation's is odometry_variance).
+  /// With odometry_variance there the keyframe chain bends under the loop closures: in the
+  /// skeleton, office-3 seed 1, ATE 11.6 m against 0.62 m with 1e-4; in the whole graph, once its
+  /// mesh rigidity joins only what a robot made close in time (link_max_dt_s), the team's map
+  /// turned 10 degrees about robot a's start (office-3 seed 1: ATE 0.077 m against 0.064 m).
+  double odometry_rotation_variance = 1e-4;
   /// Levenberg-Marquardt iterations of that whole-graph solve; 0: none, control points move
   /// rigidly with the keyframe that observed them.
   int final_iterations = 10;
@@ -101,9 +116,16 @@ DeformationResult optimizeDeformationGraph(
     const std::set<std::pair<NodeId, NodeId>>& held_out = {},
     const std::map<NodeId, Eigen::Isometry3d>* start = nullptr);
 
-/// Moves mesh vertices (global frame, before optimization) with their k nearest control points:
-/// `initial` and `optimized` poses of the control points.
+/// Moves mesh vertices (global frame, before optimization) with their k nearest control points
+/// among those made within `window_s` of the vertex (TimedNeighbors; <= 0: any): `initial` and
+/// `optimized` poses of the control points, `times_ns` when the robot made each.
 void deformMesh(std::vector<MeshVertex>& vertices, const std::vector<Eigen::Isometry3d>& initial,
-                const std::vector<Eigen::Isometry3d>& optimized, size_t k = 4);
+                const std::vector<Eigen::Isometry3d>& optimized,
+                const std::vector<int64_t>& times_ns, double window_s, size_t k = 4);
+
+/// Nanoseconds of a window in seconds (<= 0: none).
+inline int64_t windowNs(double seconds) {
+  return seconds > 0.0 ? static_cast<int64_t>(seconds * 1e9) : 0;
+}
 
 }  // namespace hydra_multi
