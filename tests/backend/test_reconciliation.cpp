@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "hydra_multi/backend/reconciliation.h"
 #include "support/object_shapes.h"
 
@@ -59,6 +61,33 @@ TEST(Reconciliation, ProposesOverlappingPlacesAndObjects) {
   EXPECT_EQ(factors[0].kind, PoseGraphEdge::Kind::kLoopClosure);
   EXPECT_LT(factors[0].T_from_to.translation().norm(), 1e-12);
   EXPECT_NEAR(Eigen::AngleAxisd(factors[0].T_from_to.linear()).angle(), 0.5, 1e-12);
+}
+
+// Three robots' copies of one place and of one object make one group each: both other copies
+// merge into robot a's (as pairs, each node in one pair at most, the third copy was left over).
+// A group holds one node per robot: robot c's second place beside the first stays out.
+TEST(Reconciliation, ThreeRobotsCopiesMergeIntoOne) {
+  const RobotId kC(2);
+  SceneGraph g;
+  place(g, kA, 0, {1, 1, 1}, 1.0);
+  place(g, kB, 0, {1.1, 1, 1}, 1.0);
+  place(g, kC, 0, {1.2, 1.1, 1}, 1.0);
+  place(g, kC, 1, {1.05, 0.95, 1}, 1.0);
+  object(g, kB, 0, {3, 3, 0.5}, 6, 0.5);
+  object(g, kC, 0, {3.2, 3, 0.5}, 6, 0.5);
+  object(g, kA, 0, {3.1, 3.1, 0.5}, 6, 0.5);
+  const std::map<RobotId, Eigen::Isometry3d> T = {{kA, Eigen::Isometry3d::Identity()},
+                                                  {kB, Eigen::Isometry3d::Identity()},
+                                                  {kC, Eigen::Isometry3d::Identity()}};
+  const auto candidates = proposeMerges(g, T);
+  std::set<std::pair<NodeId, NodeId>> got;
+  for (const MergeCandidate& c : candidates) got.insert({c.target, c.source});
+  const std::set<std::pair<NodeId, NodeId>> expected = {
+      {NodeId::station('p', kA, 0), NodeId::station('p', kB, 0)},
+      {NodeId::station('p', kA, 0), NodeId::station('p', kC, 1)},
+      {NodeId::station('O', kA, 0), NodeId::station('O', kB, 0)},
+      {NodeId::station('O', kA, 0), NodeId::station('O', kC, 0)}};
+  EXPECT_EQ(got, expected);
 }
 
 // An object with its vertices (moved by `pose` about its centre) in a robot's graph and mesh.

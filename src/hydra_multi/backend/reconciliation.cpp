@@ -18,10 +18,12 @@ struct Item {
   const Node* node;
 };
 
-// Pairs of items of different robots that `match`, nearest first, each item in one pair at most.
+// Groups of items of different robots that `match`, joined nearest pair first, each group
+// holding at most one item of each robot: three robots' copies of one place make one group, not
+// one pair and a copy left over. Each group merges into its item of the lowest robot index.
 template <typename Match>
-std::vector<MergeCandidate> pairUp(const std::vector<Item>& items, Layer layer, double reach,
-                                   Match match) {
+std::vector<MergeCandidate> groupUp(const std::vector<Item>& items, Layer layer, double reach,
+                                    Match match) {
   std::vector<Eigen::Vector3d> positions;
   for (const Item& item : items) positions.push_back(item.position);
   const NearestNeighbors index(positions);
@@ -35,16 +37,38 @@ std::vector<MergeCandidate> pairUp(const std::vector<Item>& items, Layer layer, 
     }
   }
   std::sort(pairs.begin(), pairs.end());
-  std::set<size_t> used;
-  std::vector<MergeCandidate> candidates;
+  // Union-find over the items; each root knows its group's robots.
+  std::vector<size_t> parent(items.size());
+  std::vector<std::set<RobotId>> robots(items.size());
+  for (size_t i = 0; i < items.size(); ++i) {
+    parent[i] = i;
+    robots[i] = {items[i].robot};
+  }
+  const auto root = [&parent](size_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
   for (const auto& [d, i, j] : pairs) {
-    if (used.count(i) || used.count(j)) continue;
-    used.insert(i);
-    used.insert(j);
-    // The robot with the lower index keeps its node.
-    const bool i_first = items[i].robot < items[j].robot;
-    candidates.push_back(
-        {i_first ? items[i].id : items[j].id, i_first ? items[j].id : items[i].id, layer, {}});
+    const size_t a = root(i), b = root(j);
+    if (a == b) continue;
+    if (std::any_of(robots[b].begin(), robots[b].end(),
+                    [&](RobotId r) { return robots[a].count(r) != 0; }))
+      continue;
+    parent[b] = a;
+    robots[a].insert(robots[b].begin(), robots[b].end());
+  }
+  // Each group's members, in item order; the member of the lowest robot index is the target.
+  std::map<size_t, std::vector<size_t>> groups;
+  for (size_t i = 0; i < items.size(); ++i) groups[root(i)].push_back(i);
+  std::vector<MergeCandidate> candidates;
+  for (const auto& [group, members] : groups) {
+    if (members.size() < 2) continue;
+    const size_t target = *std::min_element(members.begin(), members.end(), [&](size_t a, size_t b) {
+      return items[a].robot < items[b].robot;
+    });
+    for (const size_t m : members) {
+      if (m != target) candidates.push_back({items[target].id, items[m].id, layer, {}});
+    }
   }
   return candidates;
 }
@@ -71,7 +95,7 @@ std::vector<MergeCandidate> proposeMerges(
     }
   }
   std::vector<MergeCandidate> candidates =
-      pairUp(places, Layer::kPlaces, options.place_max_distance, [&](const Item& a, const Item& b) {
+      groupUp(places, Layer::kPlaces, options.place_max_distance, [&](const Item& a, const Item& b) {
         return std::abs(a.node->find<PlaceAttributes>()->distance -
                         b.node->find<PlaceAttributes>()->distance) <=
                options.place_max_radius_difference;
@@ -92,7 +116,7 @@ std::vector<MergeCandidate> proposeMerges(
     return inside(b.position, a.position, halfExtents(a)) ||
            inside(a.position, b.position, halfExtents(b));
   };
-  for (MergeCandidate c : pairUp(objects, Layer::kObjects, 5.0, objects_match))
+  for (MergeCandidate c : groupUp(objects, Layer::kObjects, 5.0, objects_match))
     candidates.push_back(c);
   return candidates;
 }

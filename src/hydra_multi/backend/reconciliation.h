@@ -2,14 +2,18 @@
 // Reconciliation proposals (paper III-B): nodes of different aligned robots that look like one.
 //   places   centres within place_max_distance and radii within place_max_radius_difference
 //            (0.3 m and 0.3 m; the paper's 0.01 m suits robots that share a places
-//            reconstruction, which ours do not); each place in one pair at most, nearest first.
+//            reconstruction, which ours do not).
 //            Hydra's single-robot 0.4 m let a corridor place and a room place at a doorway merge
 //            where the team's map is ~1 m off (dorm-2 seed 3, with correct loop closures only: 5-7
 //            such merges, nodes 1.1-1.3 m apart in truth); 0.3 m made none on the 7 dorm-2 and
 //            dorm-2-meet datasets tried, with the same ATE there and on office-3 and hetero-2
 //            (seed 1; `trials` in the README for all seeds);
 //   objects  the same label and overlapping bounding boxes (either box holds the other's
-//            centre; Hydra's test), nearest first.
+//            centre; Hydra's test).
+// Matching nodes are grouped, nearest pairs first, at most one node of each robot in a group (three
+// robots' copies of one object make one group; as pairs, each node in one pair at most, the third
+// copy was left over on every round); every other node of a group merges into the group's node of
+// the lowest robot index.
 // Object candidates are then checked by ICP of the source object's mesh vertices onto the
 // target's (refineObjectMerges, registration/icp.h): a pair whose surfaces do not fit (too few
 // vertices paired, too large an error, the copy moved or turned too far) is dropped; for the others
