@@ -2,12 +2,12 @@
 // Reconciliation proposals (paper III-B): nodes of different aligned robots that look like one.
 //   places   centres within place_max_distance and radii within place_max_radius_difference
 //            (0.3 m and 0.3 m; the paper's 0.01 m suits robots that share a places
-//            reconstruction, which ours do not).
-//            Hydra's single-robot 0.4 m let a corridor place and a room place at a doorway merge
-//            where the team's map is ~1 m off (dorm-2 seed 3, with correct loop closures only: 5-7
-//            such merges, nodes 1.1-1.3 m apart in truth); 0.3 m made none on the 7 dorm-2 and
-//            dorm-2-meet datasets tried, with the same ATE there and on office-3 and hetero-2
-//            (seed 1; `trials` in the README for all seeds);
+//            reconstruction, which ours do not). 0.3 m was chosen over Hydra's single-robot 0.4 m
+//            when the team's map was ~1 m off on dorm-2 seed 3 and 0.4 m merged places 1.1-1.3 m
+//            apart in truth at doorways (as the merge check measured then: it placed nodes through
+//            keyframes of other passes, backend.h MergeSideFinder); since the map and the check are
+//            right, 0.4 m makes 2-4 more merges, none across rooms, and the same metrics (dorm-2
+//            seed 3, office-3 seed 1);
 //   objects  the same label and overlapping bounding boxes (either box holds the other's
 //            centre; Hydra's test).
 // Matching nodes are grouped, nearest pairs first, at most one node of each robot in a group (three
