@@ -218,8 +218,7 @@ TEST(DeformationGraph, MeshTiesAcrossARevisitDoNotHoldTheDrift) {
     inter.push_back(e);
   }
   const std::vector<RobotDeformationInput> inputs = {
-      {ra, Eigen::Isometry3d::Identity(), &a.pose_graph, &a.control_points,
-       &a.control_point_edges},
+      {ra, Eigen::Isometry3d::Identity(), &a.pose_graph, &a.control_points, &a.control_point_edges},
       {rb, b.truth.front(), &b.pose_graph, &b.control_points, &b.control_point_edges}};
   // The worst keyframe error of b and the place's error after the solve.
   const auto errors = [&](double link_max_dt_s) {
@@ -229,14 +228,14 @@ TEST(DeformationGraph, MeshTiesAcrossARevisitDoNotHoldTheDrift) {
     const DeformationResult result = optimizeDeformationGraph(graph, options);
     double worst = 0.0;
     for (size_t k = 0; k < b.truth.size(); ++k)
-      worst = std::max(worst, (result.poses.at(kf(rb, k)).translation() -
-                               b.truth[k].translation()).norm());
+      worst = std::max(
+          worst, (result.poses.at(kf(rb, k)).translation() - b.truth[k].translation()).norm());
     const double place_error =
         (result.poses.at(place).translation() - b.truth[39] * place_offset).norm();
     return std::make_pair(worst, place_error);
   };
-  const double drift = (b.truth.front() * b.odom.back().translation() -
-                        b.truth.back().translation()).norm();
+  const double drift =
+      (b.truth.front() * b.odom.back().translation() - b.truth.back().translation()).norm();
   EXPECT_GT(drift, 0.9);
   const auto [worst_keyframe, place_error] = errors(10.0);
   EXPECT_LT(worst_keyframe, 0.15);
@@ -312,9 +311,9 @@ TEST(DeformationGraph, MeshVerticesFollowTheControlPointsOfTheirTime) {
   std::vector<MeshVertex> blended = {vertex};
   blended[0].time_ns = 205 * kS;
   deformMesh(blended, initial, optimized, times, 0.0);
-  EXPECT_GT((blended[0].position.cast<double>() - second_motion * vertex.position.cast<double>())
-                .norm(),
-            0.1);
+  EXPECT_GT(
+      (blended[0].position.cast<double>() - second_motion * vertex.position.cast<double>()).norm(),
+      0.1);
 }
 
 }  // namespace

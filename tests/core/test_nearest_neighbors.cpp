@@ -68,8 +68,8 @@ TEST(NearestNeighbors, EmptyAndSmallSets) {
 TEST(TimedNeighbors, OnlyPointsOfAboutTheQuerysTime) {
   constexpr int64_t kS = 1000000000;
   // Indices 0-2: the first pass at t = 0-2 s; 3-4: the second at t = 100-101 s, 0.1 m away.
-  const std::vector<Eigen::Vector3d> points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0},
-                                               {0.1, 0, 0}, {1.1, 0, 0}};
+  const std::vector<Eigen::Vector3d> points = {
+      {0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0.1, 0, 0}, {1.1, 0, 0}};
   const std::vector<int64_t> times = {0, 1 * kS, 2 * kS, 100 * kS, 101 * kS};
   const TimedNeighbors timed(points, times, 10 * kS);
   EXPECT_EQ(timed.size(), 5u);

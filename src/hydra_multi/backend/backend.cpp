@@ -151,8 +151,8 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     skeleton.final_iterations = 0;
     const DeformationResult solved = optimizeDeformationGraph(first, skeleton, held_out);
     solved_poses = solved.poses;
-    const SolvedNodes nodes = solvedNodes(frontend, T_global_robot, first, solved,
-                                          options_.deformation.link_max_dt_s);
+    const SolvedNodes nodes =
+        solvedNodes(frontend, T_global_robot, first, solved, options_.deformation.link_max_dt_s);
     std::map<RobotId, const Mesh*> meshes;
     for (const BackendRobot* robot : included) meshes[robot->robot] = robot->mesh;
     candidates = refineObjectMerges(
@@ -289,12 +289,8 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     std::map<RobotId, MergeSideFinder> sides;
     const auto side = [&](NodeId id) {
       const RobotId robot = id.sourceRobot().value_or(RobotId(0));
-      auto it = sides.find(robot);
-      if (it == sides.end()) it = sides
-                 .emplace(std::piecewise_construct, std::forward_as_tuple(robot),
-                          std::forward_as_tuple(frontend, robot,
-                                                options_.deformation.link_max_dt_s))
-                 .first;
+      const auto it =
+          sides.try_emplace(robot, frontend, robot, options_.deformation.link_max_dt_s).first;
       return it->second.side(id);
     };
     for (const MergeCandidate* c : kept) {

@@ -123,10 +123,9 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
         const auto a = cp_by_index.find(e.from), b = cp_by_index.find(e.to);
         if (a == cp_by_index.end() || b == cp_by_index.end()) continue;
         if (window > 0 && std::abs(a->second->time_ns - b->second->time_ns) > window) continue;
-        dg.graph.edges.push_back(edge(controlPointId(input.robot, e.from),
-                                      controlPointId(input.robot, e.to),
-                                      at(b->second->position - a->second->position),
-                                      options.mesh_variance));
+        dg.graph.edges.push_back(
+            edge(controlPointId(input.robot, e.from), controlPointId(input.robot, e.to),
+                 at(b->second->position - a->second->position), options.mesh_variance));
       }
     }
     // Places (and merge-candidate objects): linked to the nearest control point, or else the
@@ -257,8 +256,8 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
 void deformMesh(std::vector<MeshVertex>& vertices, const std::vector<Eigen::Isometry3d>& initial,
                 const std::vector<Eigen::Isometry3d>& optimized,
                 const std::vector<int64_t>& times_ns, double window_s, size_t k) {
-  if (initial.empty() || initial.size() != optimized.size() ||
-      initial.size() != times_ns.size() || k == 0)
+  if (initial.empty() || initial.size() != optimized.size() || initial.size() != times_ns.size() ||
+      k == 0)
     return;
   std::vector<Eigen::Vector3d> centres;
   for (const Eigen::Isometry3d& T : initial) centres.push_back(T.translation());

@@ -63,9 +63,9 @@ std::vector<MergeCandidate> groupUp(const std::vector<Item>& items, Layer layer,
   std::vector<MergeCandidate> candidates;
   for (const auto& [group, members] : groups) {
     if (members.size() < 2) continue;
-    const size_t target = *std::min_element(members.begin(), members.end(), [&](size_t a, size_t b) {
-      return items[a].robot < items[b].robot;
-    });
+    const size_t target =
+        *std::min_element(members.begin(), members.end(),
+                          [&](size_t a, size_t b) { return items[a].robot < items[b].robot; });
     for (const size_t m : members) {
       if (m != target) candidates.push_back({items[target].id, items[m].id, layer, {}});
     }
@@ -94,8 +94,8 @@ std::vector<MergeCandidate> proposeMerges(
       if (node.layer() == Layer::kObjects) objects.push_back({id, robot, p, &node});
     }
   }
-  std::vector<MergeCandidate> candidates =
-      groupUp(places, Layer::kPlaces, options.place_max_distance, [&](const Item& a, const Item& b) {
+  std::vector<MergeCandidate> candidates = groupUp(
+      places, Layer::kPlaces, options.place_max_distance, [&](const Item& a, const Item& b) {
         return std::abs(a.node->find<PlaceAttributes>()->distance -
                         b.node->find<PlaceAttributes>()->distance) <=
                options.place_max_radius_difference;
