@@ -169,7 +169,7 @@ class RobotMapper {
     if (run_.sensor.semantic) {
       runScheduledObjectEvents(t);
       addObjects(k, t, D);
-      refreshObjectVertices(t);
+      refreshObjectVertices(t, D);
     }
     attachToPlace(agentId(k), run_.odometry[k].translation());
     addDescriptor(k);
@@ -253,6 +253,7 @@ class RobotMapper {
       vertex.robot = run_.robot;
       vertex.time_ns = t;
       robot_vertex_[w] = static_cast<int64_t>(num_vertices_++);
+      vertex_drift_.push_back(D * v.position - v.position);
       pending_.graph.mesh.vertices.push_back(vertex);
       if (v.object >= 0) {
         object_vertices_[v.object].push_back(static_cast<uint64_t>(robot_vertex_[w]));
@@ -341,13 +342,26 @@ class RobotMapper {
     return node;
   }
 
+  // Where the robot puts a true object: Hydra computes an object from its mesh vertices, so the
+  // object carries the drift its vertices were placed with (the mean over them), which may be of
+  // an earlier pass than the keyframe that completed the detection. Without vertices yet, the
+  // drift of now.
+  Eigen::Vector3d placedWithItsVertices(int true_id, const Eigen::Vector3d& true_centroid,
+                                        const Eigen::Isometry3d& D) const {
+    const auto it = object_vertices_.find(true_id);
+    if (it == object_vertices_.end() || it->second.empty()) return D * true_centroid;
+    Eigen::Vector3d drift = Eigen::Vector3d::Zero();
+    for (const uint64_t v : it->second) drift += vertex_drift_[v];
+    return true_centroid + drift / double(it->second.size());
+  }
+
   void addObjects(size_t k, int64_t t, const Eigen::Isometry3d& D) {
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     for (const DetectedObject& d : detections_at_[k]) {
-      const Eigen::Vector3d centroid = D * d.centroid;
+      const Eigen::Vector3d centroid = placedWithItsVertices(d.true_id, d.centroid, D);
       const Eigen::Vector3d half = 0.5 * (d.box.max - d.box.min);
       const NodeId id('O', next_object_++);
-      Tracked tracked{id, d.label, centroid, half};
+      Tracked tracked{id, d.label, centroid, half, d.centroid};
       const bool split = unit(rng_) < options_.split_probability &&
                          2.0 * half.head<2>().maxCoeff() >= options_.split_min_extent;
       const bool spurious = unit(rng_) < options_.spurious_probability;
@@ -403,12 +417,14 @@ class RobotMapper {
     }
   }
 
-  // Objects whose mesh grew (or that were merged) are sent again with all their vertices.
-  void refreshObjectVertices(int64_t t) {
+  // Objects whose mesh grew (or that were merged) are sent again with all their vertices, placed
+  // with them.
+  void refreshObjectVertices(int64_t t, const Eigen::Isometry3d& D) {
     for (const int true_id : grown_objects_) {
       const auto it = tracked_.find(true_id);
       if (it == tracked_.end() || !it->second.whole) continue;
-      const Tracked& o = it->second;
+      Tracked& o = it->second;
+      o.centroid = placedWithItsVertices(true_id, o.true_centroid, D);
       putNode(objectNode(o.id, o.label, o.centroid, o.half, t, object_vertices_[true_id]));
     }
     grown_objects_.clear();
@@ -473,6 +489,7 @@ class RobotMapper {
     uint32_t label = 0;
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
     Eigen::Vector3d half = Eigen::Vector3d::Zero();
+    Eigen::Vector3d true_centroid = Eigen::Vector3d::Zero();  ///< world frame, with detection noise
     bool whole = true;
   };
   struct Event {
@@ -489,6 +506,8 @@ class RobotMapper {
   std::vector<int64_t> robot_vertex_;  // world vertex -> robot vertex index
   std::vector<bool> face_emitted_;
   size_t num_vertices_ = 0;
+  std::vector<Eigen::Vector3d>
+      vertex_drift_;  ///< per robot vertex: where drift put it, minus truth
   uint64_t sent_vertices_ = 0, sent_faces_ = 0;
   std::map<std::tuple<int, int, int>, uint64_t> control_points_;
   std::vector<TimedPlaces::Place> places_;
