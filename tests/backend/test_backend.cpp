@@ -209,7 +209,7 @@ TEST(MergeSideFinder, NearestKeyframeOfTheNodesTimeInTheRobotsOwnFrame) {
   Node mapped = makeNode(place, Layer::kPlaces, Eigen::Vector3d(6.0, 1.0, 0.0));
   mapped.last_update_time_ns = 2000000000;
   frontend.addOrUpdateNode(mapped);
-  const MergeSideFinder finder(frontend, robot, 10.0);
+  const MergeSideFinder finder(frontend, robot, nullptr, 10.0);
   const AcceptedMerge::Side side = finder.side(place);
   EXPECT_EQ(side.robot, robot);
   EXPECT_TRUE(side.position.isApprox(Eigen::Vector3d(6.0, 1.0, 0.0)));
@@ -217,7 +217,8 @@ TEST(MergeSideFinder, NearestKeyframeOfTheNodesTimeInTheRobotsOwnFrame) {
   EXPECT_TRUE(side.T_robot_keyframe.translation().isApprox(Eigen::Vector3d(5.0, 0.0, 0.0)));
   EXPECT_NEAR(Eigen::AngleAxisd(side.T_robot_keyframe.linear()).angle(), 0.3, 1e-12);
   // Without a window the later pass's keyframe, nearer, is taken.
-  EXPECT_EQ(MergeSideFinder(frontend, robot, 0.0).side(place).keyframe_stamp_ns, 100000000000);
+  EXPECT_EQ(MergeSideFinder(frontend, robot, nullptr, 0.0).side(place).keyframe_stamp_ns,
+            100000000000);
   // A node the frontend does not hold: no keyframe.
   EXPECT_EQ(finder.side(NodeId::station('p', robot, 9)).keyframe_stamp_ns, -1);
 }

@@ -316,5 +316,27 @@ TEST(DeformationGraph, MeshVerticesFollowTheControlPointsOfTheirTime) {
       0.1);
 }
 
+// An object is of the time of its vertices (the median), not of its last update: seen on a first
+// pass, detected on a second one. Without its robot's mesh, or for other nodes, the last update.
+TEST(DeformationGraph, AnObjectIsOfTheTimeOfItsVertices) {
+  constexpr int64_t kS = 1000000000;
+  Mesh mesh;
+  for (const int64_t t : {4 * kS, 5 * kS, 6 * kS, 590 * kS}) {
+    MeshVertex v;
+    v.time_ns = t;
+    mesh.vertices.push_back(v);
+  }
+  Node object = makeNode(NodeId('O', 0), Layer::kObjects, Eigen::Vector3d::Zero());
+  object.last_update_time_ns = 591 * kS;
+  object.find<ObjectAttributes>()->mesh_vertices = {0, 1, 2, 7};  // 7: not in the mesh
+  EXPECT_EQ(madeAtNs(object, &mesh), 5 * kS);
+  EXPECT_EQ(madeAtNs(object, nullptr), 591 * kS);
+  object.find<ObjectAttributes>()->mesh_vertices = {};
+  EXPECT_EQ(madeAtNs(object, &mesh), 591 * kS);
+  Node place = makeNode(NodeId('p', 0), Layer::kPlaces, Eigen::Vector3d::Zero());
+  place.last_update_time_ns = 42 * kS;
+  EXPECT_EQ(madeAtNs(place, &mesh), 42 * kS);
+}
+
 }  // namespace
 }  // namespace hydra_multi

@@ -10,18 +10,21 @@ namespace hydra_multi {
 namespace {
 
 // Where a solve of `graph` put the aligned robots' places and objects: places as solved, objects
-// moved as their robot's nearest keyframe moved (`motion`: that rigid motion, global frame).
+// moved as their robot's nearest keyframe of about their time (madeAtNs) moved (`motion`: that
+// rigid motion, global frame).
 struct SolvedNodes {
   std::map<NodeId, Eigen::Vector3d> positions;
   std::map<NodeId, Eigen::Isometry3d> motion;
 };
 SolvedNodes solvedNodes(const SceneGraph& frontend,
-                        const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
+                        const std::vector<RobotDeformationInput>& robots,
                         const DeformationGraph& graph, const DeformationResult& solved,
                         double window_s) {
   SolvedNodes nodes;
   auto& positions = nodes.positions;
-  for (const auto& [robot, T] : T_global_robot) {
+  for (const RobotDeformationInput& input : robots) {
+    const RobotId robot = input.robot;
+    const Eigen::Isometry3d& T = input.T_global_robot;
     std::vector<Eigen::Vector3d> keyframe_positions;
     std::vector<int64_t> keyframe_times;
     std::vector<Eigen::Isometry3d> motion;  // optimized * initial^-1, per keyframe
@@ -45,7 +48,7 @@ SolvedNodes solvedNodes(const SceneGraph& frontend,
       const Node& object = frontend.getNode(id);
       const Eigen::Vector3d aligned = T * object.position;
       const Eigen::Isometry3d& moved =
-          motion[near.nearest(aligned, object.last_update_time_ns).front().index];
+          motion[near.nearest(aligned, madeAtNs(object, input.mesh)).front().index];
       positions[id] = moved * aligned;
       nodes.motion[id] = moved;
     }
@@ -55,8 +58,9 @@ SolvedNodes solvedNodes(const SceneGraph& frontend,
 
 }  // namespace
 
-MergeSideFinder::MergeSideFinder(const SceneGraph& frontend, RobotId robot, double window_s)
-    : frontend_(frontend), robot_(robot) {
+MergeSideFinder::MergeSideFinder(const SceneGraph& frontend, RobotId robot, const Mesh* mesh,
+                                 double window_s)
+    : frontend_(frontend), robot_(robot), mesh_(mesh) {
   std::vector<Eigen::Vector3d> positions;
   std::vector<int64_t> times;
   for (const NodeId id : frontend.nodesOfRobot(robot)) {
@@ -75,7 +79,7 @@ AcceptedMerge::Side MergeSideFinder::side(NodeId id) const {
   const Node* node = frontend_.findNode(id);
   if (node == nullptr) return s;
   s.position = node->position;
-  const auto nearest = near_->nearest(s.position, node->last_update_time_ns);
+  const auto nearest = near_->nearest(s.position, madeAtNs(*node, mesh_));
   if (nearest.empty()) return s;
   const Node& keyframe = *keyframes_[nearest.front().index];
   s.keyframe_stamp_ns = keyframe.find<AgentAttributes>()->timestamp_ns;
@@ -122,7 +126,7 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     const auto it = aligned.find(robot.robot);
     if (it == aligned.end()) continue;
     inputs.push_back({robot.robot, it->second.T_global_robot, robot.pose_graph,
-                      robot.control_points, robot.control_point_edges});
+                      robot.control_points, robot.control_point_edges, robot.mesh});
     included.push_back(&robot);
   }
   std::map<RobotId, Eigen::Isometry3d> T_global_robot;
@@ -152,7 +156,7 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     const DeformationResult solved = optimizeDeformationGraph(first, skeleton, held_out);
     solved_poses = solved.poses;
     const SolvedNodes nodes =
-        solvedNodes(frontend, T_global_robot, first, solved, options_.deformation.link_max_dt_s);
+        solvedNodes(frontend, inputs, first, solved, options_.deformation.link_max_dt_s);
     std::map<RobotId, const Mesh*> meshes;
     for (const BackendRobot* robot : included) meshes[robot->robot] = robot->mesh;
     candidates = refineObjectMerges(
@@ -289,8 +293,12 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     std::map<RobotId, MergeSideFinder> sides;
     const auto side = [&](NodeId id) {
       const RobotId robot = id.sourceRobot().value_or(RobotId(0));
+      const Mesh* mesh = nullptr;
+      for (const BackendRobot* r : included) {
+        if (r->robot == robot) mesh = r->mesh;
+      }
       const auto it =
-          sides.try_emplace(robot, frontend, robot, options_.deformation.link_max_dt_s).first;
+          sides.try_emplace(robot, frontend, robot, mesh, options_.deformation.link_max_dt_s).first;
       return it->second.side(id);
     };
     for (const MergeCandidate* c : kept) {

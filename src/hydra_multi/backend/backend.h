@@ -97,13 +97,15 @@ struct AcceptedMerge {
 /// One robot's AcceptedMerge sides from the frontend graph (station ids, the robot's frame).
 class MergeSideFinder {
  public:
-  /// `window_s`: how far from the node's time its keyframe may be (TimedNeighbors).
-  MergeSideFinder(const SceneGraph& frontend, RobotId robot, double window_s);
+  /// `mesh`: the robot's, for the time of an object (madeAtNs); `window_s`: how far from the
+  /// node's time its keyframe may be (TimedNeighbors).
+  MergeSideFinder(const SceneGraph& frontend, RobotId robot, const Mesh* mesh, double window_s);
   AcceptedMerge::Side side(NodeId id) const;
 
  private:
   const SceneGraph& frontend_;
   RobotId robot_;
+  const Mesh* mesh_ = nullptr;
   std::vector<const Node*> keyframes_;
   std::unique_ptr<TimedNeighbors> near_;
 };

@@ -36,6 +36,19 @@ constexpr double kGaugeVariance = 1e6;
 
 NodeId controlPointId(RobotId robot, uint64_t index) { return NodeId::station('M', robot, index); }
 
+int64_t madeAtNs(const Node& node, const Mesh* mesh) {
+  const ObjectAttributes* object = node.find<ObjectAttributes>();
+  if (object == nullptr || mesh == nullptr) return node.last_update_time_ns;
+  std::vector<int64_t> times;
+  for (const uint64_t v : object->mesh_vertices) {
+    if (v < mesh->vertices.size()) times.push_back(mesh->vertices[v].time_ns);
+  }
+  if (times.empty()) return node.last_update_time_ns;
+  const auto middle = times.begin() + static_cast<std::ptrdiff_t>(times.size() / 2);
+  std::nth_element(times.begin(), middle, times.end());
+  return *middle;
+}
+
 DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
                                        const std::vector<RobotDeformationInput>& robots,
                                        const std::vector<PoseGraphEdge>& inter_robot,
@@ -129,7 +142,7 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
       }
     }
     // Places (and merge-candidate objects): linked to the nearest control point, or else the
-    // nearest keyframe, of those the robot made about when it last updated the node.
+    // nearest keyframe, of those the robot made about when it placed the node (madeAtNs).
     const TimedNeighbors near_cp(cp_positions, cp_times, window);
     std::vector<Eigen::Vector3d> kf_positions;
     std::vector<int64_t> kf_times;
@@ -144,11 +157,12 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
       const Node& node = frontend.getNode(place);
       const Eigen::Vector3d p = node.position;
       dg.initial[place] = T * at(p);
-      const size_t k = near_kf.nearest(p, node.last_update_time_ns).front().index;
+      const int64_t made = madeAtNs(node, input.mesh);
+      const size_t k = near_kf.nearest(p, made).front().index;
       const PoseGraphEdge to_keyframe =
           edge(kf_ids[k], place, local[kf_ids[k]].inverse() * at(p), options.mesh_variance);
       dg.skeleton.edges.push_back(to_keyframe);
-      const auto cp = near_cp.nearest(p, node.last_update_time_ns);
+      const auto cp = near_cp.nearest(p, made);
       if (!cp.empty() && cp.front().distance <= options.place_link_radius) {
         dg.graph.edges.push_back(edge(cp_ids[cp.front().index], place,
                                       at(p - cp_positions[cp.front().index]),

@@ -52,7 +52,14 @@ struct RobotDeformationInput {
   const std::vector<PoseGraphEdge>* pose_graph = nullptr;  ///< odometry, own loop closures
   const std::vector<ControlPoint>* control_points = nullptr;
   const std::vector<ControlPointEdge>* control_point_edges = nullptr;
+  const Mesh* mesh = nullptr;  ///< its mesh, for the time of an object's vertices (madeAtNs)
 };
+
+/// When a robot placed a node in its map, for the ties of about that time (link_max_dt_s): an
+/// object by its mesh vertices (the median of their times), as Hydra computes an object from its
+/// vertices, which may be of an earlier pass than the object's last update; any other node at its
+/// last update.
+int64_t madeAtNs(const Node& node, const Mesh* mesh);
 
 struct DeformationGraphOptions {
   double odometry_variance = 1e-2;
