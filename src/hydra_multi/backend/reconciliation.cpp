@@ -170,9 +170,14 @@ std::vector<MergeCandidate> refineObjectMerges(
     const Eigen::Isometry3d& T = fit.value().T_target_source;
     const double shift = (T * centroid - centroid).norm();
     const double turn_deg = Eigen::AngleAxisd(T.linear()).angle() * 180.0 / M_PI;
+    if (shift > options.icp_max_shift_m) continue;
+    if (turn_deg > options.icp_max_rotation_deg) {
+      // A wrong fit (the robots are aligned), not a sign of two objects: the plain factor.
+      kept.push_back(std::move(c));
+      continue;
+    }
     if (double(fit.value().inliers.size()) < options.icp_min_paired_share * double(source.size()) ||
-        fit.value().rmse > options.icp_max_rmse_m || shift > options.icp_max_shift_m ||
-        turn_deg > options.icp_max_rotation_deg)
+        fit.value().rmse > options.icp_max_rmse_m)
       continue;
     c.T_target_source = X_target.inverse() * fit.value().T_target_source * X_source;
     kept.push_back(std::move(c));
