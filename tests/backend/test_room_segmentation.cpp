@@ -71,6 +71,59 @@ TEST(RoomSegmentation, TwoRoomsSplitAtTheDoor) {
 }
 
 // Without places there are no rooms; a single open space is one room.
+// Three small rooms of 3 x 2 places (radius 0.7) off a wide corridor of 10 x 2 (radius 1.1), each
+// through a door place of radius 0.4: the small rooms stand apart only at thresholds 0.43-0.64 of
+// 0.43-1.2, four seeds; above, the corridor alone (1), then nothing (0). The median count is 1:
+// one room of everything (as on the dorm floors); the most seeds make the four rooms.
+TEST(RoomSegmentation, SmallRoomsOffACorridorTakeTheMostSeedsRule) {
+  SceneGraph g;
+  uint64_t next = 0;
+  std::map<std::pair<int, int>, NodeId> at;
+  const auto add = [&](int x, int y, double r) {
+    Node p = makeNode(NodeId('p', next++), Layer::kPlaces, Eigen::Vector3d(x, y, 1.0));
+    p.find<PlaceAttributes>()->distance = r;
+    g.addOrUpdateNode(p);
+    at[{x, y}] = p.id;
+  };
+  for (int x = 0; x < 10; ++x)
+    for (int y = 0; y < 2; ++y) add(x, y, 1.1);
+  for (const int x0 : {0, 4, 8}) {
+    add(x0 + 1, 2, 0.4);  // the door
+    for (int x = 0; x < 3; ++x)
+      for (int y = 3; y < 5; ++y) add(x0 + x, y, 0.7);
+  }
+  for (const auto& [xy, id] : at) {
+    for (const auto& step : {std::make_pair(1, 0), std::make_pair(0, 1)}) {
+      const auto other = at.find({xy.first + step.first, xy.second + step.second});
+      if (other == at.end()) continue;
+      const double w = std::min(g.getNode(id).find<PlaceAttributes>()->distance,
+                                g.getNode(other->second).find<PlaceAttributes>()->distance);
+      g.addOrUpdateEdge(id, other->second, {w, true});
+    }
+  }
+  RoomSegmentationOptions options;
+  options.min_room_places = 5;
+  EXPECT_EQ(segmentRooms(g, options).rooms.size(), 1u);
+  options.rule = RoomSegmentationOptions::Rule::kMost;
+  const RoomSegmentation rooms = segmentRooms(g, options);
+  ASSERT_EQ(rooms.rooms.size(), 4u);
+  EXPECT_LT(rooms.threshold, 0.7);
+  size_t corridors = 0;
+  for (const auto& room : rooms.rooms) {
+    // A room is the corridor (y < 2) or one small room (y > 2), never both; a door place (y = 2)
+    // joins either side, as near to both.
+    size_t low = 0, high = 0;
+    for (const NodeId p : room) {
+      low += g.getNode(p).position.y() < 1.5;
+      high += g.getNode(p).position.y() > 2.5;
+    }
+    EXPECT_TRUE(low == 0 || high == 0);
+    EXPECT_EQ(low + high, low > 0 ? 20u : 6u);
+    corridors += low > 0;
+  }
+  EXPECT_EQ(corridors, 1u);
+}
+
 TEST(RoomSegmentation, EmptyAndSingleRoom) {
   SceneGraph empty;
   EXPECT_TRUE(segmentRooms(empty).rooms.empty());

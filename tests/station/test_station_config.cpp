@@ -18,7 +18,7 @@ TEST(StationConfig, KeysSetOptions) {
       "deformation": {"two_stage": false, "final_iterations": 0, "mesh_variance": 0.001,
                       "gnc_mu_step": 2.0, "link_max_dt_s": 0, "odometry_rotation_variance": 0.01},
       "reconciliation": {"enabled": false, "place_max_distance": 0.6},
-      "rooms": {"enabled": false, "min_room_places": 4}})",
+      "rooms": {"enabled": false, "min_room_places": 4, "threshold_rule": "most"}})",
                                       "test.json", options);
   ASSERT_TRUE(s.ok()) << s.message();
   EXPECT_DOUBLE_EQ(options.detector.object_ambiguity_ratio, 0.0);
@@ -39,6 +39,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_DOUBLE_EQ(options.backend.reconciliation.place_max_distance, 0.6);
   EXPECT_FALSE(options.backend.segment_rooms);
   EXPECT_EQ(options.backend.rooms.min_room_places, 4u);
+  EXPECT_EQ(options.backend.rooms.rule, RoomSegmentationOptions::Rule::kMost);
 }
 
 TEST(StationConfig, ErrorsNameTheProblemAndChangeNothing) {
@@ -53,6 +54,8 @@ TEST(StationConfig, ErrorsNameTheProblemAndChangeNothing) {
       {R"({"loop_closures": {"object_ambiguity_ratio": -0.5}})",
        "loop_closures.object_ambiguity_ratio: expected a number >= 0"},
       {R"({"rooms": {"min_places": 3}})", "unknown key rooms.min_places"},
+      {R"({"rooms": {"threshold_rule": "max"}})",
+       "rooms.threshold_rule: expected \"median\" or \"most\""},
       {R"({"deformation": {"mesh_variance": -1}})",
        "deformation.mesh_variance: expected a number > 0"},
       {R"({"deformation": {"two_stage": 1}})", "deformation.two_stage: expected true or false"},
@@ -71,6 +74,16 @@ TEST(StationConfig, ErrorsNameTheProblemAndChangeNothing) {
   }
   StationOptions options;
   EXPECT_FALSE(loadStationConfig("/nonexistent/config.json", options).ok());
+}
+
+// The configuration shipped for buildings of small rooms loads and sets what the README says.
+TEST(StationConfig, ShippedSmallRoomsConfiguration) {
+  StationOptions options;
+  const Status s = loadStationConfig(HYDRA_MULTI_SOURCE_DIR "/config/small-rooms.json", options);
+  ASSERT_TRUE(s.ok()) << s.message();
+  EXPECT_EQ(options.backend.rooms.min_room_places, 5u);
+  EXPECT_EQ(options.backend.rooms.rule, RoomSegmentationOptions::Rule::kMost);
+  EXPECT_EQ(options.backend.rooms.thresholds, RoomSegmentationOptions{}.thresholds);
 }
 
 }  // namespace

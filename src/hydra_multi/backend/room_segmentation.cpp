@@ -67,9 +67,11 @@ RoomSegmentation segmentRooms(const SceneGraph& graph, const RoomSegmentationOpt
   }
   std::vector<size_t> counts = segmentation.seeds_per_threshold;
   std::sort(counts.begin(), counts.end());
-  const size_t median = counts[(counts.size() - 1) / 2];
+  const size_t wanted = options.rule == RoomSegmentationOptions::Rule::kMost
+                            ? counts.back()
+                            : counts[(counts.size() - 1) / 2];
   size_t chosen = 0;
-  while (segmentation.seeds_per_threshold[chosen] != median) ++chosen;
+  while (segmentation.seeds_per_threshold[chosen] != wanted) ++chosen;
   segmentation.threshold = thresholds[chosen];
   const auto& room_seeds = seeds[chosen];
   if (room_seeds.empty()) return segmentation;

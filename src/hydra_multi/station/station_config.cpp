@@ -131,7 +131,17 @@ const std::map<std::string, std::map<std::string, Setter>>& setters() {
         {"max_threshold",
          number([](StationOptions& o, double x) { o.backend.rooms.max_threshold = x; }, 0.0, true)},
         {"min_room_places",
-         count([](StationOptions& o, int n) { o.backend.rooms.min_room_places = n; }, 1)}}}};
+         count([](StationOptions& o, int n) { o.backend.rooms.min_room_places = n; }, 1)},
+        {"threshold_rule", [](const Json& v, StationOptions& o) -> std::string {
+           using Rule = RoomSegmentationOptions::Rule;
+           if (v == "median")
+             o.backend.rooms.rule = Rule::kMedian;
+           else if (v == "most")
+             o.backend.rooms.rule = Rule::kMost;
+           else
+             return "expected \"median\" or \"most\"";
+           return "";
+         }}}}};
   return table;
 }
 

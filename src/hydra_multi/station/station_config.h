@@ -17,7 +17,8 @@
 //                        "place_max_radius_difference": 0.3, "min_valid_share": 0.5,
 //                        "merge_variance": 0.05},
 //     "rooms":          {"enabled": true, "thresholds": 12, "min_threshold": 0.43,
-//                        "max_threshold": 1.2, "min_room_places": 10}
+//                        "max_threshold": 1.2, "min_room_places": 10,
+//                        "threshold_rule": "median"}
 //   }
 
 #include <string>
