@@ -11,35 +11,47 @@
 namespace hydra_multi {
 namespace {
 
+// Places on a 1 m grid at z = 1, joined to their grid neighbours by edges weighted by the smaller
+// radius of their ends.
+class PlaceGrid {
+ public:
+  void add(int x, int y, double radius) {
+    Node p = makeNode(NodeId('p', next_++), Layer::kPlaces, Eigen::Vector3d(x, y, 1.0));
+    p.find<PlaceAttributes>()->distance = radius;
+    graph_.addOrUpdateNode(p);
+    at_[{x, y}] = p.id;
+  }
+  SceneGraph connected() {
+    for (const auto& [xy, id] : at_) {
+      for (const auto& step : {std::make_pair(1, 0), std::make_pair(0, 1)}) {
+        const auto other = at_.find({xy.first + step.first, xy.second + step.second});
+        if (other == at_.end()) continue;
+        const double w = std::min(graph_.getNode(id).find<PlaceAttributes>()->distance,
+                                  graph_.getNode(other->second).find<PlaceAttributes>()->distance);
+        graph_.addOrUpdateEdge(id, other->second, {w, true});
+      }
+    }
+    return graph_;
+  }
+
+ private:
+  SceneGraph graph_;
+  uint64_t next_ = 0;
+  std::map<std::pair<int, int>, NodeId> at_;
+};
+
 // Two 5 x 5 rooms of places 1 m apart (radius 1.0 inside, 0.5 next to walls), joined by a door
-// of two places of radius 0.4; every edge weighted by the smaller radius of its ends.
+// of two places of radius 0.4.
 SceneGraph twoRooms() {
-  SceneGraph g;
-  uint64_t next = 0;
-  std::map<std::pair<int, int>, NodeId> at;
-  const auto add = [&](int x, int y, double r) {
-    Node p = makeNode(NodeId('p', next++), Layer::kPlaces, Eigen::Vector3d(x, y, 1.0));
-    p.find<PlaceAttributes>()->distance = r;
-    g.addOrUpdateNode(p);
-    at[{x, y}] = p.id;
-  };
+  PlaceGrid grid;
   for (const int x0 : {0, 7}) {
     for (int x = 0; x < 5; ++x)
       for (int y = 0; y < 5; ++y)
-        add(x0 + x, y, (x == 0 || y == 0 || x == 4 || y == 4) ? 0.5 : 1.0);
+        grid.add(x0 + x, y, (x == 0 || y == 0 || x == 4 || y == 4) ? 0.5 : 1.0);
   }
-  add(5, 2, 0.4);
-  add(6, 2, 0.4);
-  for (const auto& [xy, id] : at) {
-    for (const auto& step : {std::make_pair(1, 0), std::make_pair(0, 1)}) {
-      const auto other = at.find({xy.first + step.first, xy.second + step.second});
-      if (other == at.end()) continue;
-      const double w = std::min(g.getNode(id).find<PlaceAttributes>()->distance,
-                                g.getNode(other->second).find<PlaceAttributes>()->distance);
-      g.addOrUpdateEdge(id, other->second, {w, true});
-    }
-  }
-  return g;
+  grid.add(5, 2, 0.4);
+  grid.add(6, 2, 0.4);
+  return grid.connected();
 }
 
 // The door splits the places into two rooms of 25 and 27 (the door places join the nearer
@@ -76,31 +88,15 @@ TEST(RoomSegmentation, TwoRoomsSplitAtTheDoor) {
 // 0.43-1.2, four seeds; above, the corridor alone (1), then nothing (0). The median count is 1:
 // one room of everything (as on the dorm floors); the most seeds make the four rooms.
 TEST(RoomSegmentation, SmallRoomsOffACorridorTakeTheMostSeedsRule) {
-  SceneGraph g;
-  uint64_t next = 0;
-  std::map<std::pair<int, int>, NodeId> at;
-  const auto add = [&](int x, int y, double r) {
-    Node p = makeNode(NodeId('p', next++), Layer::kPlaces, Eigen::Vector3d(x, y, 1.0));
-    p.find<PlaceAttributes>()->distance = r;
-    g.addOrUpdateNode(p);
-    at[{x, y}] = p.id;
-  };
+  PlaceGrid grid;
   for (int x = 0; x < 10; ++x)
-    for (int y = 0; y < 2; ++y) add(x, y, 1.1);
+    for (int y = 0; y < 2; ++y) grid.add(x, y, 1.1);
   for (const int x0 : {0, 4, 8}) {
-    add(x0 + 1, 2, 0.4);  // the door
+    grid.add(x0 + 1, 2, 0.4);  // the door
     for (int x = 0; x < 3; ++x)
-      for (int y = 3; y < 5; ++y) add(x0 + x, y, 0.7);
+      for (int y = 3; y < 5; ++y) grid.add(x0 + x, y, 0.7);
   }
-  for (const auto& [xy, id] : at) {
-    for (const auto& step : {std::make_pair(1, 0), std::make_pair(0, 1)}) {
-      const auto other = at.find({xy.first + step.first, xy.second + step.second});
-      if (other == at.end()) continue;
-      const double w = std::min(g.getNode(id).find<PlaceAttributes>()->distance,
-                                g.getNode(other->second).find<PlaceAttributes>()->distance);
-      g.addOrUpdateEdge(id, other->second, {w, true});
-    }
-  }
+  const SceneGraph g = grid.connected();
   RoomSegmentationOptions options;
   options.min_room_places = 5;
   EXPECT_EQ(segmentRooms(g, options).rooms.size(), 1u);
