@@ -41,16 +41,16 @@ class PlaceGrid {
 };
 
 // Two 5 x 5 rooms of places 1 m apart (radius 1.0 inside, 0.5 next to walls), joined by a door
-// of two places of radius 0.4.
-SceneGraph twoRooms() {
+// of two places of radius 0.4 (or an opening of another radius).
+SceneGraph twoRooms(double door_radius = 0.4) {
   PlaceGrid grid;
   for (const int x0 : {0, 7}) {
     for (int x = 0; x < 5; ++x)
       for (int y = 0; y < 5; ++y)
         grid.add(x0 + x, y, (x == 0 || y == 0 || x == 4 || y == 4) ? 0.5 : 1.0);
   }
-  grid.add(5, 2, 0.4);
-  grid.add(6, 2, 0.4);
+  grid.add(5, 2, door_radius);
+  grid.add(6, 2, door_radius);
   return grid.connected();
 }
 
@@ -99,6 +99,7 @@ TEST(RoomSegmentation, SmallRoomsOffACorridorTakeTheMostSeedsRule) {
   const SceneGraph g = grid.connected();
   RoomSegmentationOptions options;
   options.min_room_places = 5;
+  options.rule = RoomSegmentationOptions::Rule::kMedian;
   EXPECT_EQ(segmentRooms(g, options).rooms.size(), 1u);
   options.rule = RoomSegmentationOptions::Rule::kMost;
   const RoomSegmentation rooms = segmentRooms(g, options);
@@ -120,6 +121,22 @@ TEST(RoomSegmentation, SmallRoomsOffACorridorTakeTheMostSeedsRule) {
   EXPECT_EQ(corridors, 1u);
 }
 
+// With the most seeds, an opening of radius 0.7 between the two rooms parts them too (at
+// thresholds 0.7-1.0 of 0.43-1.2); it is wider than a door of max_door_radius 0.55, so they are
+// one room. A door of 0.4 keeps them two.
+TEST(RoomSegmentation, AnOpeningWiderThanADoorJoinsTwoRooms) {
+  RoomSegmentationOptions options;
+  options.min_room_places = 5;
+  options.rule = RoomSegmentationOptions::Rule::kMost;
+  options.max_door_radius = 0.0;
+  EXPECT_EQ(segmentRooms(twoRooms(0.7), options).rooms.size(), 2u);
+  options.max_door_radius = 0.55;
+  const RoomSegmentation opening = segmentRooms(twoRooms(0.7), options);
+  ASSERT_EQ(opening.rooms.size(), 1u);
+  EXPECT_EQ(opening.rooms[0].size(), 52u);
+  EXPECT_EQ(segmentRooms(twoRooms(0.4), options).rooms.size(), 2u);
+}
+
 TEST(RoomSegmentation, EmptyAndSingleRoom) {
   SceneGraph empty;
   EXPECT_TRUE(segmentRooms(empty).rooms.empty());
@@ -131,26 +148,60 @@ TEST(RoomSegmentation, EmptyAndSingleRoom) {
   EXPECT_EQ(segmentRooms(g, options).rooms.size(), 1u);
 }
 
-// On a simulated robot's own places (office-3 at half scale, robot a, whose frame is the global
-// frame), the rooms match the true rooms well by the paper's rooms metric (measured: 5 rooms,
-// precision 0.86, recall 0.53; recall counts the rooms the robot never entered).
-TEST(RoomSegmentation, SimulatedOfficeRooms) {
+// Room segmentation of a simulated robot's own places (robot a, whose frame is the global frame;
+// half scale): the defaults against DESIGN.md's rule (config/hydra-rooms.json).
+struct SimulatedRooms {
+  size_t true_rooms = 0;
+  SceneGraphScore ours, design;
+};
+SimulatedRooms simulatedRooms(const std::string& preset) {
   namespace fs = std::filesystem;
-  const fs::path dir =
-      fs::temp_directory_path() / ("hydra_multi_test_rooms_" + std::to_string(getpid()));
+  const fs::path dir = fs::temp_directory_path() /
+                       ("hydra_multi_test_rooms_" + preset + "_" + std::to_string(getpid()));
   fs::remove_all(dir);
-  auto dataset = sim::simulateDataset(sim::presetConfig("office-3", 1, 1, 0.5).value());
-  ASSERT_TRUE(dataset.ok());
-  ASSERT_TRUE(sim::writeDataset(dataset.value(), dir.string()).ok());
+  SimulatedRooms result;
+  auto dataset = sim::simulateDataset(sim::presetConfig(preset, 1, 1, 0.5).value());
+  EXPECT_TRUE(dataset.ok());
+  if (!dataset.ok() || !sim::writeDataset(dataset.value(), dir.string()).ok()) return result;
   const DatasetGroundTruth truth = readDatasetGroundTruth(dir.string()).value();
-  SceneGraph graph = replayRobotGraph(truth, RobotId(0)).value();
-  const RoomSegmentation rooms = segmentRooms(graph);
-  applyRooms(graph, rooms);
-  const SceneGraphScore score = evaluateSceneGraph(graph, truth);
-  EXPECT_GE(score.num_rooms, 3u);
-  EXPECT_GT(score.rooms_precision.value_or(0.0), 0.7);
-  EXPECT_GT(score.rooms_recall.value_or(0.0), 0.45);
+  result.true_rooms = truth.room_ids.size();
+  RoomSegmentationOptions design;
+  design.min_room_places = 10;
+  design.rule = RoomSegmentationOptions::Rule::kMedian;
+  design.max_door_radius = 0.0;
+  for (const auto& [options, score] : {std::make_pair(RoomSegmentationOptions{}, &result.ours),
+                                       std::make_pair(design, &result.design)}) {
+    SceneGraph graph = replayRobotGraph(truth, RobotId(0)).value();
+    applyRooms(graph, segmentRooms(graph, options));
+    *score = evaluateSceneGraph(graph, truth);
+  }
   fs::remove_all(dir);
+  return result;
+}
+
+// The dorm floor's student rooms (8 places each): DESIGN.md's rule makes one room of the floor
+// (measured: precision 0.39), ours separates them (16 rooms of the 19, precision 0.94); the
+// recall, bounded by how much of each room the places cover, stays (0.47 against 0.49).
+TEST(RoomSegmentation, SimulatedDormRooms) {
+  const SimulatedRooms rooms = simulatedRooms("dorm-2");
+  EXPECT_EQ(rooms.design.num_rooms, 1u);
+  EXPECT_LT(rooms.design.rooms_precision.value_or(1.0), 0.5);
+  EXPECT_GE(rooms.ours.num_rooms, rooms.true_rooms / 2);
+  EXPECT_LE(rooms.ours.num_rooms, rooms.true_rooms);
+  EXPECT_GT(rooms.ours.rooms_precision.value_or(0.0), 0.9);
+  EXPECT_GT(rooms.ours.rooms_recall.value_or(0.0), 0.4);
+}
+
+// An office's large rooms: both rules find them roughly (measured: ours 12 rooms of 7, precision
+// 0.89, recall 0.42; DESIGN.md's 5, 0.88, 0.48; recall counts the rooms the robot never entered).
+// On half a building seen by one robot ours splits more; the five seeds of the whole team find
+// 8-16 rooms of 12, precision 0.95 and recall 0.77 against 0.94 and 0.73 (README, `trials`).
+TEST(RoomSegmentation, SimulatedOfficeRooms) {
+  const SimulatedRooms rooms = simulatedRooms("office-3");
+  EXPECT_GE(rooms.ours.num_rooms, 3u);
+  EXPECT_LE(rooms.ours.num_rooms, 2 * rooms.true_rooms);
+  EXPECT_GT(rooms.ours.rooms_precision.value_or(0.0), 0.8);
+  EXPECT_GT(rooms.ours.rooms_recall.value_or(0.0), 0.35);
 }
 
 }  // namespace

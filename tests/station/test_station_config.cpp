@@ -18,7 +18,8 @@ TEST(StationConfig, KeysSetOptions) {
       "deformation": {"two_stage": false, "final_iterations": 0, "mesh_variance": 0.001,
                       "gnc_mu_step": 2.0, "link_max_dt_s": 0, "odometry_rotation_variance": 0.01},
       "reconciliation": {"enabled": false, "place_max_distance": 0.6},
-      "rooms": {"enabled": false, "min_room_places": 4, "threshold_rule": "most"}})",
+      "rooms": {"enabled": false, "min_room_places": 4, "threshold_rule": "most",
+                    "max_door_radius": 0.6}})",
                                       "test.json", options);
   ASSERT_TRUE(s.ok()) << s.message();
   EXPECT_DOUBLE_EQ(options.detector.object_ambiguity_ratio, 0.0);
@@ -40,6 +41,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_FALSE(options.backend.segment_rooms);
   EXPECT_EQ(options.backend.rooms.min_room_places, 4u);
   EXPECT_EQ(options.backend.rooms.rule, RoomSegmentationOptions::Rule::kMost);
+  EXPECT_DOUBLE_EQ(options.backend.rooms.max_door_radius, 0.6);
 }
 
 TEST(StationConfig, ErrorsNameTheProblemAndChangeNothing) {
@@ -76,13 +78,14 @@ TEST(StationConfig, ErrorsNameTheProblemAndChangeNothing) {
   EXPECT_FALSE(loadStationConfig("/nonexistent/config.json", options).ok());
 }
 
-// The configuration shipped for buildings of small rooms loads and sets what the README says.
-TEST(StationConfig, ShippedSmallRoomsConfiguration) {
+// The shipped configuration of DESIGN.md's (Hydra's) room segmentation loads and sets it.
+TEST(StationConfig, ShippedHydraRoomsConfiguration) {
   StationOptions options;
-  const Status s = loadStationConfig(HYDRA_MULTI_SOURCE_DIR "/config/small-rooms.json", options);
+  const Status s = loadStationConfig(HYDRA_MULTI_SOURCE_DIR "/config/hydra-rooms.json", options);
   ASSERT_TRUE(s.ok()) << s.message();
-  EXPECT_EQ(options.backend.rooms.min_room_places, 5u);
-  EXPECT_EQ(options.backend.rooms.rule, RoomSegmentationOptions::Rule::kMost);
+  EXPECT_EQ(options.backend.rooms.min_room_places, 10u);
+  EXPECT_EQ(options.backend.rooms.rule, RoomSegmentationOptions::Rule::kMedian);
+  EXPECT_DOUBLE_EQ(options.backend.rooms.max_door_radius, 0.0);
   EXPECT_EQ(options.backend.rooms.thresholds, RoomSegmentationOptions{}.thresholds);
 }
 

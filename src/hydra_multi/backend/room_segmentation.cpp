@@ -103,8 +103,31 @@ RoomSegmentation segmentRooms(const SceneGraph& graph, const RoomSegmentationOpt
       }
     }
   }
-  segmentation.rooms.assign(room_seeds.size(), {});
-  for (const auto& [place, entry] : best) segmentation.rooms[entry.second].push_back(place);
+  // Join rooms that an opening wider than a door connects (union-find over the rooms).
+  std::vector<size_t> parent(room_seeds.size());
+  for (size_t r = 0; r < parent.size(); ++r) parent[r] = r;
+  const auto find = [&parent](size_t r) {
+    while (parent[r] != r) r = parent[r] = parent[parent[r]];
+    return r;
+  };
+  if (options.max_door_radius > 0.0) {
+    for (const auto& [p, entry] : best) {
+      for (const NodeId q : graph.neighbours(p)) {
+        const auto other = best.find(q);
+        if (other == best.end() || other->second.second == entry.second) continue;
+        const EdgeAttributes* edge = graph.findEdge(p, q);
+        // An unweighted edge says nothing of the opening's width.
+        if (edge == nullptr || !edge->weighted || edge->weight <= options.max_door_radius) continue;
+        parent[find(entry.second)] = find(other->second.second);
+      }
+    }
+  }
+  std::map<size_t, size_t> index_of_root;
+  for (size_t r = 0; r < parent.size(); ++r)
+    index_of_root.try_emplace(find(r), index_of_root.size());
+  segmentation.rooms.assign(index_of_root.size(), {});
+  for (const auto& [place, entry] : best)
+    segmentation.rooms[index_of_root.at(find(entry.second))].push_back(place);
   for (auto& room : segmentation.rooms) std::sort(room.begin(), room.end());
   return segmentation;
 }

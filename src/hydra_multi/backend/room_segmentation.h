@@ -5,15 +5,26 @@
 //   1. For each of `thresholds` values t evenly over [min_threshold, max_threshold], keep the
 //      places with free-space radius > t and the place edges with weight > t; the connected
 //      components with at least min_room_places places are candidate room seeds.
-//   2. Take the threshold whose number of seeds is the median over all thresholds (the smallest
-//      such threshold); or, with Rule::kMost, the one with the most seeds. The median suits
-//      rooms of many places (office-3: 11 rooms of 12); where rooms are small (a student room of
-//      the dorm presets holds 8 places) they stand apart only over a few thresholds and the median
-//      makes one room of the floor; there min_room_places 5 with kMost separates them (README,
-//      `trials`), while on office-3 it splits large rooms (29 of 12).
+//   2. Take the threshold with the most seeds (Rule::kMost, the smallest such threshold), or
+//      DESIGN.md's: the one whose number of seeds is the median over all thresholds (kMedian).
 //   3. Grow the seeds to every other place they reach over the places graph, each place going
 //      to the seed nearest along the graph (Dijkstra from all seeds at once, Euclidean lengths).
+//   4. Join grown rooms that a place edge of clearance above max_door_radius connects: the
+//      opening between them is wider than a door.
 // Rooms get a room node at the mean of their places, and every room the building node as parent.
+//
+// The defaults depart from DESIGN.md's (median, seeds of 10 places, no joining), measured on all
+// five presets over 5 seeds (README, `trials`). DESIGN.md's rule suits rooms of many places
+// (office-3: 9-11 rooms of 12), but a student room of the dorm presets holds 8 places: it cannot
+// seed, and with smaller seeds it stands apart over a few thresholds only, where the median does
+// not fall; every dorm floor came out one room (precision 0.36), residence-3f 3-4 rooms of 39.
+// The most seeds separate them, and on office-3 also split large rooms where furniture narrows
+// the free space (23-29 rooms of 12); the pieces meet through openings wider than the doors (the
+// simulated doors are 0.9 m wide, clearance 0.4-0.5 m; the pieces' links 0.54-1.0 m), so joining
+// rooms across a clearance above 0.55 m puts them back. Measured, default against DESIGN.md's:
+// dorm floors 21-37 rooms of 37, precision 0.97-0.98 against 0.36, recall the same;
+// residence-3f 34-36 of 39, precision 0.98 against 0.35; office-3 8-16 of 12, precision 0.95
+// against 0.94, recall 0.77 against 0.73. config/hydra-rooms.json restores DESIGN.md's rule.
 
 #include <vector>
 
@@ -25,10 +36,14 @@ struct RoomSegmentationOptions {
   int thresholds = 12;  ///< Hydra: 12 values over 0.43-1.2 m
   double min_threshold = 0.43;
   double max_threshold = 1.2;
-  size_t min_room_places = 10;
-  /// Which threshold: the one whose seed count is the median over all (kMedian), or the one with
-  /// the most seeds (kMost); the smallest such threshold either way.
-  enum class Rule { kMedian, kMost } rule = Rule::kMedian;
+  size_t min_room_places = 5;  ///< DESIGN.md, Hydra: 10
+  /// Which threshold: the one whose seed count is the median over all (kMedian, DESIGN.md's), or
+  /// the one with the most seeds (kMost); the smallest such threshold either way.
+  enum class Rule { kMedian, kMost } rule = Rule::kMost;
+  /// Two grown rooms joined by a place edge whose clearance (weight) is above this are one room:
+  /// the opening between them is wider than a door (2 x this). 0: rooms are never joined
+  /// (DESIGN.md's). An unweighted edge joins nothing.
+  double max_door_radius = 0.55;
 };
 
 struct RoomSegmentation {

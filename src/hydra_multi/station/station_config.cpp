@@ -132,6 +132,9 @@ const std::map<std::string, std::map<std::string, Setter>>& setters() {
          number([](StationOptions& o, double x) { o.backend.rooms.max_threshold = x; }, 0.0, true)},
         {"min_room_places",
          count([](StationOptions& o, int n) { o.backend.rooms.min_room_places = n; }, 1)},
+        {"max_door_radius",
+         number([](StationOptions& o, double x) { o.backend.rooms.max_door_radius = x; }, 0.0,
+                false)},
         {"threshold_rule", [](const Json& v, StationOptions& o) -> std::string {
            using Rule = RoomSegmentationOptions::Rule;
            if (v == "median")

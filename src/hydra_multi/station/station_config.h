@@ -1,7 +1,8 @@
 #pragma once
 // The station's configuration file (`hydra-multi run --config FILE`): a JSON object whose sections
-// set the station's parameters over the defaults of DESIGN.md. Every key is optional; an unknown
-// key, a wrong type or a value out of range is an error that names the file and the key.
+// set the station's parameters over its defaults (DESIGN.md's, but where a header says why not).
+// Every key is optional; an unknown key, a wrong type or a value out of range is an error that
+// names the file and the key.
 //
 //   {
 //     "loop_closures":  {"object_ambiguity_ratio": 0.8, "object_rival_distance": 1.0,
@@ -17,8 +18,8 @@
 //                        "place_max_radius_difference": 0.3, "min_valid_share": 0.5,
 //                        "merge_variance": 0.05},
 //     "rooms":          {"enabled": true, "thresholds": 12, "min_threshold": 0.43,
-//                        "max_threshold": 1.2, "min_room_places": 10,
-//                        "threshold_rule": "median"}
+//                        "max_threshold": 1.2, "min_room_places": 5,
+//                        "threshold_rule": "most", "max_door_radius": 0.55}
 //   }
 
 #include <string>
