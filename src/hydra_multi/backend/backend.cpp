@@ -132,6 +132,8 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   std::map<RobotId, Eigen::Isometry3d> T_global_robot;
   for (const RobotDeformationInput& input : inputs)
     T_global_robot[input.robot] = input.T_global_robot;
+  std::map<RobotId, const Mesh*> meshes;
+  for (const BackendRobot* robot : included) meshes[robot->robot] = robot->mesh;
   const bool joint = options_.joint_optimization;
   const std::vector<PoseGraphEdge> loop_closures =
       joint ? inter_robot : std::vector<PoseGraphEdge>();
@@ -157,8 +159,6 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     solved_poses = solved.poses;
     const SolvedNodes nodes =
         solvedNodes(frontend, inputs, first, solved, options_.deformation.link_max_dt_s);
-    std::map<RobotId, const Mesh*> meshes;
-    for (const BackendRobot* robot : included) meshes[robot->robot] = robot->mesh;
     candidates = refineObjectMerges(
         proposeMerges(frontend, T_global_robot, options_.reconciliation, &nodes.positions),
         frontend, T_global_robot, meshes, options_.reconciliation, &nodes.motion);
@@ -293,12 +293,12 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     std::map<RobotId, MergeSideFinder> sides;
     const auto side = [&](NodeId id) {
       const RobotId robot = id.sourceRobot().value_or(RobotId(0));
-      const Mesh* mesh = nullptr;
-      for (const BackendRobot* r : included) {
-        if (r->robot == robot) mesh = r->mesh;
-      }
+      const auto mesh = meshes.find(robot);
       const auto it =
-          sides.try_emplace(robot, frontend, robot, mesh, options_.deformation.link_max_dt_s).first;
+          sides
+              .try_emplace(robot, frontend, robot, mesh == meshes.end() ? nullptr : mesh->second,
+                           options_.deformation.link_max_dt_s)
+              .first;
       return it->second.side(id);
     };
     for (const MergeCandidate* c : kept) {
