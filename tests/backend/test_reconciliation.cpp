@@ -176,5 +176,83 @@ TEST(Reconciliation, ObjectMergesCheckedWhereTheSolveMovedThem) {
   EXPECT_LT(Eigen::AngleAxisd(kept[0].T_target_source->linear()).angle(), 0.01);
 }
 
+// An object of the backend graph: its box of `size` at `centre`, its lattice of vertices in the
+// graph's mesh (global frame).
+void labelledObject(SceneGraph& g, RobotId robot, uint64_t index, const Eigen::Vector3d& centre,
+                    const Eigen::Vector3d& size, uint32_t label) {
+  Node node = makeNode(NodeId::station('O', robot, index), Layer::kObjects, centre);
+  node.semantic()->label = label;
+  node.semantic()->bounding_box = BoundingBox{centre - 0.5 * size, centre + 0.5 * size};
+  for (const Eigen::Vector3d& p : testing::latticeBoxVertices(size)) {
+    node.find<ObjectAttributes>()->mesh_vertices.push_back(g.mesh().vertices.size());
+    MeshVertex v;
+    v.position = (centre + p).cast<float>();
+    g.mesh().vertices.push_back(v);
+  }
+  g.addOrUpdateNode(node);
+}
+
+const uint32_t kChair = 5, kSofa = 8, kTable = 7;
+const Eigen::Vector3d kChairSize(0.5, 0.5, 0.9);
+
+// Robot a called a chair a sofa; robots b and c called it a chair, and their copies are merged
+// into b's. Two robots against one, at a confusion of 0.1: odds 9 for the chair (the labels as
+// common), so a's copy merges into b's.
+TEST(LabelVotes, TwoRobotsOutvoteOne) {
+  const RobotId kC(2);
+  SceneGraph g;
+  labelledObject(g, kA, 0, {2.0, 1.0, 0.45}, kChairSize, kSofa);
+  labelledObject(g, kB, 0, {2.05, 1.02, 0.45}, kChairSize, kChair);
+  const auto disputes = resolveLabelDisputes(g, {{NodeId::station('O', kB, 0), {kB, kC}}});
+  ASSERT_EQ(disputes.size(), 1u);
+  EXPECT_EQ(disputes[0].winner, NodeId::station('O', kB, 0));
+  EXPECT_EQ(disputes[0].loser, NodeId::station('O', kA, 0));
+  EXPECT_NEAR(disputes[0].odds, 9.0, 1e-9);
+  // Without c's vote it is one robot against one and the labels are as common: no decision.
+  EXPECT_TRUE(resolveLabelDisputes(g, {}).empty());
+}
+
+// One robot against one: the prior decides, the label of more objects in the team's graph. With
+// six chairs and one sofa, (6 + 1) / (1 + 1) = 3.5 >= 3: the sofa is taken for a chair, whichever
+// robot called it so; with two sofas, 7 / 3 < 3: both stay.
+TEST(LabelVotes, OneAgainstOneTheCommonerLabelWins) {
+  for (const bool a_says_chair : {true, false}) {
+    SceneGraph g;
+    labelledObject(g, kA, 0, {2.0, 1.0, 0.45}, kChairSize, a_says_chair ? kChair : kSofa);
+    labelledObject(g, kB, 0, {2.03, 0.98, 0.45}, kChairSize, a_says_chair ? kSofa : kChair);
+    for (uint64_t i = 1; i <= 5; ++i)
+      labelledObject(g, kA, i, {10.0 * double(i), 8.0, 0.45}, kChairSize, kChair);
+    const auto disputes = resolveLabelDisputes(g, {});
+    ASSERT_EQ(disputes.size(), 1u);
+    const NodeId chair = NodeId::station('O', a_says_chair ? kA : kB, 0);
+    const NodeId sofa = NodeId::station('O', a_says_chair ? kB : kA, 0);
+    EXPECT_EQ(disputes[0].winner, chair);
+    EXPECT_EQ(disputes[0].loser, sofa);
+    EXPECT_NEAR(disputes[0].odds, 3.5, 1e-9);
+    labelledObject(g, kB, 1, {5.0, -8.0, 0.45}, Eigen::Vector3d(2.0, 0.9, 0.85), kSofa);
+    EXPECT_TRUE(resolveLabelDisputes(g, {}).empty());
+  }
+}
+
+// No dispute without one surface, two robots and enough vertices: a chair pushed under a table
+// (the table's box holds its centre, their vertices lie apart), two copies of one robot, a copy of
+// too few vertices.
+TEST(LabelVotes, OnlyOneSurfaceOfTwoRobots) {
+  ReconciliationOptions options;
+  options.label_min_odds = 1.0;  // any odds decide: only the geometry and the robots can refuse
+  SceneGraph g;
+  labelledObject(g, kA, 0, {2.0, 1.0, 0.375}, Eigen::Vector3d(1.2, 0.8, 0.75), kTable);
+  labelledObject(g, kB, 0, {2.2, 1.1, 0.45}, kChairSize, kChair);
+  EXPECT_TRUE(resolveLabelDisputes(g, {}, options).empty());
+  SceneGraph one_robot;
+  labelledObject(one_robot, kA, 0, {2.0, 1.0, 0.45}, kChairSize, kSofa);
+  labelledObject(one_robot, kA, 1, {2.0, 1.0, 0.45}, kChairSize, kChair);
+  EXPECT_TRUE(resolveLabelDisputes(one_robot, {}, options).empty());
+  labelledObject(one_robot, kB, 0, {2.0, 1.0, 0.45}, kChairSize, kChair);
+  EXPECT_EQ(resolveLabelDisputes(one_robot, {}, options).size(), 1u);
+  options.icp_min_vertices = 1000;
+  EXPECT_TRUE(resolveLabelDisputes(one_robot, {}, options).empty());
+}
+
 }  // namespace
 }  // namespace hydra_multi

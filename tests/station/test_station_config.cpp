@@ -17,7 +17,8 @@ TEST(StationConfig, KeysSetOptions) {
                     "weigh_support": false},
       "deformation": {"two_stage": false, "final_iterations": 0, "mesh_variance": 0.001,
                       "gnc_mu_step": 2.0, "link_max_dt_s": 0, "odometry_rotation_variance": 0.01},
-      "reconciliation": {"enabled": false, "place_max_distance": 0.6},
+      "reconciliation": {"enabled": false, "place_max_distance": 0.6, "label_votes": true,
+                         "label_confusion": 0.2, "label_min_odds": 2},
       "rooms": {"enabled": false, "min_room_places": 4, "threshold_rule": "most",
                     "max_door_radius": 0.6}})",
                                       "test.json", options);
@@ -38,6 +39,9 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_DOUBLE_EQ(options.backend.deformation.odometry_rotation_variance, 0.01);
   EXPECT_FALSE(options.backend.reconcile);
   EXPECT_DOUBLE_EQ(options.backend.reconciliation.place_max_distance, 0.6);
+  EXPECT_TRUE(options.backend.reconciliation.label_votes);
+  EXPECT_DOUBLE_EQ(options.backend.reconciliation.label_confusion, 0.2);
+  EXPECT_DOUBLE_EQ(options.backend.reconciliation.label_min_odds, 2.0);
   EXPECT_FALSE(options.backend.segment_rooms);
   EXPECT_EQ(options.backend.rooms.min_room_places, 4u);
   EXPECT_EQ(options.backend.rooms.rule, RoomSegmentationOptions::Rule::kMost);
@@ -61,6 +65,10 @@ TEST(StationConfig, ErrorsNameTheProblemAndChangeNothing) {
       {R"({"deformation": {"mesh_variance": -1}})",
        "deformation.mesh_variance: expected a number > 0"},
       {R"({"deformation": {"two_stage": 1}})", "deformation.two_stage: expected true or false"},
+      {R"({"reconciliation": {"label_confusion": 0.5}})",
+       "reconciliation.label_confusion: expected a number > 0 and < 0.5"},
+      {R"({"reconciliation": {"label_min_shared_vertices": 1.5}})",
+       "reconciliation.label_min_shared_vertices: expected a number > 0.0 and <= 1.0"},
       {R"({"alignment": {"min_inliers": 2.5}})", "alignment.min_inliers: expected an integer"},
       {R"({"rooms": {"min_threshold": 2.0, "max_threshold": 1.0}})", "min_threshold is above"},
       {R"({"reconciliation": {"enabled": false}, "rooms": {"thresholds": "12"}})",
@@ -87,6 +95,16 @@ TEST(StationConfig, ShippedHydraRoomsConfiguration) {
   EXPECT_EQ(options.backend.rooms.rule, RoomSegmentationOptions::Rule::kMedian);
   EXPECT_DOUBLE_EQ(options.backend.rooms.max_door_radius, 0.0);
   EXPECT_EQ(options.backend.rooms.thresholds, RoomSegmentationOptions{}.thresholds);
+}
+
+// The shipped configuration that turns the label votes on (reconciliation.h).
+TEST(StationConfig, ShippedLabelVotesConfiguration) {
+  StationOptions options;
+  const Status s = loadStationConfig(HYDRA_MULTI_SOURCE_DIR "/config/label-votes.json", options);
+  ASSERT_TRUE(s.ok()) << s.message();
+  EXPECT_TRUE(options.backend.reconciliation.label_votes);
+  EXPECT_DOUBLE_EQ(options.backend.reconciliation.label_confusion,
+                   ReconciliationOptions{}.label_confusion);
 }
 
 }  // namespace

@@ -175,6 +175,7 @@ int runRun(const RunOptions& o) {
       {"robots_aligned", result.aligned.size()},
       {"merges_accepted", result.rounds.empty() ? 0 : result.rounds.back().report.merges_accepted},
       {"merges_undone", result.rounds.empty() ? 0 : result.rounds.back().report.merges_undone},
+      {"merges_label", result.rounds.empty() ? 0 : result.rounds.back().report.label_merges},
       {"merges_across_rooms", merges_across_rooms},
       {"frontend_ms_p50", frontend.median},
       {"frontend_ms_max", frontend.max},
@@ -208,7 +209,9 @@ int runRun(const RunOptions& o) {
             << (result.rounds.empty() ? 0 : result.rounds.back().report.merges_proposed)
             << " proposed, "
             << (result.rounds.empty() ? 0 : result.rounds.back().report.merges_undone)
-            << " undone, " << merges_across_rooms << " across two true rooms\n"
+            << " undone, "
+            << (result.rounds.empty() ? 0 : result.rounds.back().report.label_merges)
+            << " by label votes, " << merges_across_rooms << " across two true rooms\n"
             << "  ATE                   " << show(score.ate_rmse_m, 3) << " m\n"
             << "  objects found         " << show(score.objects_found_pct, 1) << " %\n"
             << "  objects correct       " << show(score.objects_correct_pct, 1) << " % ("

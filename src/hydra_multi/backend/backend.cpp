@@ -301,11 +301,24 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
               .first;
       return it->second.side(id);
     };
+    // The robots whose copies each merged object unites, for the label votes.
+    std::map<NodeId, std::set<RobotId>> voters;
     for (const MergeCandidate* c : kept) {
       if (!graph.hasNode(c->target) || !graph.hasNode(c->source)) continue;
       merges_.push_back({c->target, c->source, c->layer, side(c->target), side(c->source)});
       graph.mergeNodes(c->target, c->source);
       ++report.merges_accepted;
+      if (c->layer != Layer::kObjects) continue;
+      for (const NodeId id : {c->target, c->source}) {
+        if (const auto robot = id.sourceRobot()) voters[c->target].insert(*robot);
+      }
+    }
+    if (options_.reconciliation.label_votes) {
+      for (const LabelDispute& d : resolveLabelDisputes(graph, voters, options_.reconciliation)) {
+        merges_.push_back({d.winner, d.loser, Layer::kObjects, side(d.winner), side(d.loser)});
+        graph.mergeNodes(d.winner, d.loser);
+        ++report.label_merges;
+      }
     }
   } else {
     report.merges_undone = kept.size();

@@ -12,7 +12,8 @@
 //   4. the backend graph: keyframes and places at their optimized poses, every robot's mesh
 //      aligned and deformed with its control points, objects moved with their mesh vertices (or
 //      with their nearest control point when they have none); the merges kept are made, none if
-//      fewer than half of the proposed ones were kept;
+//      fewer than half of the proposed ones were kept; with label votes on, then the copies of one
+//      object that robots labelled differently (reconciliation.h);
 //   5. rooms segmented over the optimized places (room_segmentation.h).
 // Holding factors out of GNC departs from the paper's single GNC over everything: where
 // look-alike rooms make most loop closures wrong, GNC alone followed the consistent wrong ones
@@ -67,6 +68,7 @@ struct BackendRoundReport {
   size_t robots = 0, robots_aligned = 0;
   size_t inter_robot_loop_closures = 0, inter_robot_inliers = 0;
   size_t merges_proposed = 0, merges_accepted = 0, merges_undone = 0;
+  size_t label_merges = 0;  ///< objects merged by the label votes (reconciliation.h), not counted above
   size_t nodes = 0, rooms = 0;
   size_t variables = 0, factors = 0;  ///< poses and factors of the deformation graph
   double time_s = 0.0;

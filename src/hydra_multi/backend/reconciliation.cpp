@@ -210,4 +210,90 @@ std::vector<PoseGraphEdge> mergeFactors(const std::vector<MergeCandidate>& candi
   return factors;
 }
 
+namespace {
+
+struct Voted {
+  NodeId id;
+  uint32_t label = 0;
+  Eigen::Vector3d position;
+  const BoundingBox* box = nullptr;
+  std::vector<Eigen::Vector3d> vertices;
+  std::set<RobotId> robots;
+};
+
+// Most of the smaller vertex set lies within `reach` of the other: one surface.
+bool shareTheirSurface(const Voted& a, const Voted& b, const ReconciliationOptions& options) {
+  const Voted& small = a.vertices.size() <= b.vertices.size() ? a : b;
+  const Voted& large = &small == &a ? b : a;
+  const NearestNeighbors index(large.vertices);
+  size_t shared = 0;
+  for (const Eigen::Vector3d& v : small.vertices) {
+    const auto nearest = index.nearest(v);
+    shared += !nearest.empty() && (large.vertices[nearest.front().index] - v).norm() <=
+                                      options.label_vertex_distance_m;
+  }
+  return double(shared) >= options.label_min_shared_vertices * double(small.vertices.size());
+}
+
+}  // namespace
+
+std::vector<LabelDispute> resolveLabelDisputes(const SceneGraph& graph,
+                                               const std::map<NodeId, std::set<RobotId>>& voters,
+                                               const ReconciliationOptions& options) {
+  std::vector<Voted> objects;
+  std::map<uint32_t, size_t> label_count;
+  for (const auto& [id, node] : graph.nodes()) {
+    const ObjectAttributes* object = node.find<ObjectAttributes>();
+    if (object == nullptr) continue;
+    ++label_count[object->semantic.label];
+    const auto robot = id.sourceRobot();
+    if (!object->semantic.bounding_box || !robot) continue;
+    Voted v{id, object->semantic.label, node.position, &*object->semantic.bounding_box, {}, {}};
+    for (const uint64_t i : object->mesh_vertices) {
+      if (i < graph.mesh().vertices.size())
+        v.vertices.push_back(graph.mesh().vertices[i].position.cast<double>());
+    }
+    if (v.vertices.size() < options.icp_min_vertices) continue;
+    const auto given = voters.find(id);
+    v.robots = given == voters.end() ? std::set<RobotId>{*robot} : given->second;
+    objects.push_back(std::move(v));
+  }
+  std::vector<Eigen::Vector3d> positions;
+  for (const Voted& v : objects) positions.push_back(v.position);
+  const NearestNeighbors index(positions);
+  const double vote = std::log((1.0 - options.label_confusion) / options.label_confusion);
+  // log odds of a's label over b's
+  const auto logOdds = [&](const Voted& a, const Voted& b) {
+    return std::log(double(label_count[a.label] + 1) / double(label_count[b.label] + 1)) +
+           (double(a.robots.size()) - double(b.robots.size())) * vote;
+  };
+  std::vector<std::tuple<double, size_t, size_t>> disputes;  // distance, winner, loser
+  for (size_t i = 0; i < objects.size(); ++i) {
+    const Voted& a = objects[i];
+    for (const auto& near : index.withinRadius(a.position, 5.0)) {
+      const size_t j = near.index;
+      const Voted& b = objects[j];
+      if (j <= i || a.label == b.label) continue;
+      if (std::any_of(a.robots.begin(), a.robots.end(),
+                      [&](RobotId r) { return b.robots.count(r) != 0; }))
+        continue;
+      if (!a.box->contains(b.position) && !b.box->contains(a.position)) continue;
+      const double odds = logOdds(a, b);
+      if (std::abs(odds) < std::log(options.label_min_odds)) continue;
+      if (!shareTheirSurface(a, b, options)) continue;
+      disputes.emplace_back((a.position - b.position).norm(), odds > 0 ? i : j, odds > 0 ? j : i);
+    }
+  }
+  std::sort(disputes.begin(), disputes.end());
+  std::vector<LabelDispute> resolved;
+  std::set<size_t> taken;
+  for (const auto& [distance, winner, loser] : disputes) {
+    if (taken.count(winner) || taken.count(loser)) continue;
+    taken.insert({winner, loser});
+    resolved.push_back(
+        {objects[winner].id, objects[loser].id, std::exp(logOdds(objects[winner], objects[loser]))});
+  }
+  return resolved;
+}
+
 }  // namespace hydra_multi

@@ -101,6 +101,9 @@ StationResult runStation(const DatasetStreams& input, const StationOptions& opti
         std::to_string(timing.report.inter_robot_loop_closures) +
         " inter-robot loop closures kept, " + std::to_string(timing.report.merges_accepted) + "/" +
         std::to_string(timing.report.merges_proposed) + " merges, " +
+        (timing.report.label_merges > 0
+             ? std::to_string(timing.report.label_merges) + " by label votes, "
+             : std::string()) +
         std::to_string(timing.report.nodes) + " nodes, " + std::to_string(timing.report.rooms) +
         " rooms, " + std::to_string(timing.report.time_s) + " s");
   };

@@ -1,7 +1,9 @@
 #include "hydra_multi/station/station_config.h"
 
+#include <cmath>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -13,12 +15,15 @@ using Json = nlohmann::json;
 // Sets one option from a JSON value; returns an error text (what was expected) or "".
 using Setter = std::function<std::string(const Json&, StationOptions&)>;
 
-Setter number(std::function<void(StationOptions&, double)> set, double min, bool exclusive) {
-  return [set, min, exclusive](const Json& v, StationOptions& o) -> std::string {
+Setter number(std::function<void(StationOptions&, double)> set, double min, bool exclusive,
+              double max = std::numeric_limits<double>::infinity()) {
+  return [set, min, exclusive, max](const Json& v, StationOptions& o) -> std::string {
     if (!v.is_number()) return "expected a number";
     const double x = v.get<double>();
-    if (!std::isfinite(x) || (exclusive ? x <= min : x < min))
-      return std::string("expected a number ") + (exclusive ? "> " : ">= ") + Json(min).dump();
+    if (!std::isfinite(x) || (exclusive ? x <= min : x < min) || x > max) {
+      return std::string("expected a number ") + (exclusive ? "> " : ">= ") + Json(min).dump() +
+             (std::isfinite(max) ? " and <= " + Json(max).dump() : "");
+    }
     set(o, x);
     return "";
   };
@@ -122,7 +127,28 @@ const std::map<std::string, std::map<std::string, Setter>>& setters() {
                 0.0, false)},
         {"merge_variance",
          number([](StationOptions& o, double x) { o.backend.reconciliation.merge_variance = x; },
-                0.0, true)}}},
+                0.0, true)},
+        {"label_votes",
+         flag([](StationOptions& o, bool b) { o.backend.reconciliation.label_votes = b; })},
+        {"label_confusion",
+         [](const Json& v, StationOptions& o) -> std::string {
+           // At 0.5 or more a robot's label would be no evidence, or evidence against itself.
+           if (!v.is_number() || !(v.get<double>() > 0.0 && v.get<double>() < 0.5))
+             return "expected a number > 0 and < 0.5";
+           o.backend.reconciliation.label_confusion = v.get<double>();
+           return "";
+         }},
+        {"label_min_odds",
+         number([](StationOptions& o, double x) { o.backend.reconciliation.label_min_odds = x; },
+                1.0, false)},
+        {"label_vertex_distance_m",
+         number([](StationOptions& o,
+                   double x) { o.backend.reconciliation.label_vertex_distance_m = x; },
+                0.0, true)},
+        {"label_min_shared_vertices",
+         number([](StationOptions& o,
+                   double x) { o.backend.reconciliation.label_min_shared_vertices = x; },
+                0.0, true, 1.0)}}},
       {"rooms",
        {{"enabled", flag([](StationOptions& o, bool b) { o.backend.segment_rooms = b; })},
         {"thresholds", count([](StationOptions& o, int n) { o.backend.rooms.thresholds = n; }, 1)},
