@@ -130,7 +130,8 @@ TEST_F(TinyTeam, FullRound) {
 // its one dispute, a wrong label against a right one, is then decided right.)
 TEST_F(TinyTeam, LabelVotesMergeDifferentlyLabelledCopies) {
   Backend plain(options());
-  const BackendRoundReport without = plain.round(processor_->graph(), robots(), *inter_, RobotId(0));
+  const BackendRoundReport without =
+      plain.round(processor_->graph(), robots(), *inter_, RobotId(0));
   BackendOptions voting = options();
   voting.reconciliation.label_votes = true;
   voting.reconciliation.label_min_odds = 1.0;

@@ -39,6 +39,8 @@ int runRun(const RunOptions& o) {
   if (!o.config.empty()) {
     if (Status s = loadStationConfig(o.config, options); !s) return fail(s.message());
   }
+  const auto config = canonicalStationConfig(o.config);
+  if (!config) return fail(config.error());
   if (o.ablation == "no-ia") options.backend.initial_alignment = false;
   if (o.ablation == "no-rec") options.backend.reconcile = false;
   // Baselines read the ground truth before the run: they are yardsticks, not the station.
@@ -186,6 +188,7 @@ int runRun(const RunOptions& o) {
       {"method", o.baseline.empty() ? o.ablation : o.baseline}};
   metrics.update(extra);
   std::ofstream(out / "metrics.json") << metrics.dump(2) << "\n";
+  std::ofstream(out / "config.json") << config.value() << "\n";
 
   const auto show = [](const std::optional<double>& v, int precision) {
     if (!v) return std::string("n/a");
@@ -209,8 +212,7 @@ int runRun(const RunOptions& o) {
             << (result.rounds.empty() ? 0 : result.rounds.back().report.merges_proposed)
             << " proposed, "
             << (result.rounds.empty() ? 0 : result.rounds.back().report.merges_undone)
-            << " undone, "
-            << (result.rounds.empty() ? 0 : result.rounds.back().report.label_merges)
+            << " undone, " << (result.rounds.empty() ? 0 : result.rounds.back().report.label_merges)
             << " by label votes, " << merges_across_rooms << " across two true rooms\n"
             << "  ATE                   " << show(score.ate_rmse_m, 3) << " m\n"
             << "  objects found         " << show(score.objects_found_pct, 1) << " %\n"
@@ -227,8 +229,8 @@ int runRun(const RunOptions& o) {
             << "  backend per round     median " << backend.median / 1e3 << " s, max "
             << backend.max / 1e3 << " s\n"
             << "outputs in " << o.out
-            << ": graph.json, graph.spark.json, mesh.ply, metrics.json, timing.csv, "
-               "loop_closures.csv\n";
+            << ": graph.json, graph.spark.json, mesh.ply, metrics.json, config.json, "
+               "timing.csv, loop_closures.csv\n";
   return 0;
 }
 

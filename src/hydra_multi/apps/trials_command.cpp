@@ -21,6 +21,7 @@
 #include "hydra_multi/apps/commands.h"
 #include "hydra_multi/core/result.h"
 #include "hydra_multi/eval/trials_report.h"
+#include "hydra_multi/station/station_config.h"
 
 namespace hydra_multi::apps {
 namespace {
@@ -63,6 +64,15 @@ Result<double> simulatedLabelConfusion(const fs::path& dataset_json) {
   return j.at(at).get<double>();
 }
 
+// The configuration a run was made with (its config.json, canonical; "{}" for a run without
+// one: made with the defaults, by a version that did not record it).
+std::string runConfig(const fs::path& dir) {
+  std::ifstream in(dir / "config.json");
+  if (!in) return "{}";
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  return j.is_discarded() ? "not valid JSON" : j.dump();
+}
+
 std::string show(const TrialRun& run, const std::string& key, int decimals) {
   const auto it = run.metrics.find(key);
   if (it == run.metrics.end()) return "n/a";
@@ -83,6 +93,8 @@ int runTrials(const TrialsOptions& o) {
   std::error_code ec;
   fs::create_directories(out, ec);
   if (ec) return fail("cannot create " + o.out + ": " + ec.message());
+  const auto config = canonicalStationConfig(o.config);
+  if (!config) return fail(config.error());
   const size_t total = (o.last_seed - o.first_seed + 1) * o.methods.size();
   size_t done = 0;
   std::vector<TrialRun> runs;
@@ -115,6 +127,12 @@ int runTrials(const TrialsOptions& o) {
       const fs::path dir = out / "runs" / method / ("seed-" + std::to_string(seed));
       ++done;
       const bool reuse = !o.redo && fs::exists(dir / "metrics.json");
+      if (reuse && runConfig(dir) != config.value()) {
+        // A run is reused only if it was made with the configuration asked for.
+        return fail(dir.string() + " was run with the configuration " + runConfig(dir) + ", not " +
+                    config.value() + (o.config.empty() ? "" : " (" + o.config + ")") +
+                    "; use --redo or another --out");
+      }
       if (!reuse) {
         RunOptions run;
         run.dataset = dataset.string();

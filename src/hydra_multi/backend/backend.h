@@ -68,7 +68,8 @@ struct BackendRoundReport {
   size_t robots = 0, robots_aligned = 0;
   size_t inter_robot_loop_closures = 0, inter_robot_inliers = 0;
   size_t merges_proposed = 0, merges_accepted = 0, merges_undone = 0;
-  size_t label_merges = 0;  ///< objects merged by the label votes (reconciliation.h), not counted above
+  /// Objects merged by the label votes (reconciliation.h), not counted in merges_accepted.
+  size_t label_merges = 0;
   size_t nodes = 0, rooms = 0;
   size_t variables = 0, factors = 0;  ///< poses and factors of the deformation graph
   double time_s = 0.0;

@@ -229,8 +229,8 @@ bool shareTheirSurface(const Voted& a, const Voted& b, const ReconciliationOptio
   size_t shared = 0;
   for (const Eigen::Vector3d& v : small.vertices) {
     const auto nearest = index.nearest(v);
-    shared += !nearest.empty() && (large.vertices[nearest.front().index] - v).norm() <=
-                                      options.label_vertex_distance_m;
+    shared += !nearest.empty() &&
+              (large.vertices[nearest.front().index] - v).norm() <= options.label_vertex_distance_m;
   }
   return double(shared) >= options.label_min_shared_vertices * double(small.vertices.size());
 }
@@ -290,8 +290,8 @@ std::vector<LabelDispute> resolveLabelDisputes(const SceneGraph& graph,
   for (const auto& [distance, winner, loser] : disputes) {
     if (taken.count(winner) || taken.count(loser)) continue;
     taken.insert({winner, loser});
-    resolved.push_back(
-        {objects[winner].id, objects[loser].id, std::exp(logOdds(objects[winner], objects[loser]))});
+    resolved.push_back({objects[winner].id, objects[loser].id,
+                        std::exp(logOdds(objects[winner], objects[loser]))});
   }
   return resolved;
 }

@@ -131,13 +131,17 @@ const std::map<std::string, std::map<std::string, Setter>>& setters() {
         {"label_votes",
          flag([](StationOptions& o, bool b) { o.backend.reconciliation.label_votes = b; })},
         {"label_confusion",
-         [](const Json& v, StationOptions& o) -> std::string {
-           // At 0.5 or more a robot's label would be no evidence, or evidence against itself.
-           if (!v.is_number() || !(v.get<double>() > 0.0 && v.get<double>() < 0.5))
-             return "expected a number > 0 and < 0.5";
-           o.backend.reconciliation.label_confusion = v.get<double>();
-           return "";
-         }},
+         [](const Json& v, StationOptions& o) -> std::
+                                                  string {
+                                                    // At 0.5 or more a robot's label would be no
+                                                    // evidence, or evidence against itself.
+                                                    if (!v.is_number() || !(v.get<double>() > 0.0 &&
+                                                                            v.get<double>() < 0.5))
+                                                      return "expected a number > 0 and < 0.5";
+                                                    o.backend.reconciliation.label_confusion =
+                                                        v.get<double>();
+                                                    return "";
+                                                  }},
         {"label_min_odds",
          number([](StationOptions& o, double x) { o.backend.reconciliation.label_min_odds = x; },
                 1.0, false)},
@@ -215,6 +219,14 @@ Status loadStationConfig(const std::string& path, StationOptions& options) {
   std::ostringstream text;
   text << in.rdbuf();
   return applyStationConfig(text.str(), path, options);
+}
+
+Result<std::string> canonicalStationConfig(const std::string& path) {
+  if (path.empty()) return std::string("{}");
+  StationOptions unused;
+  if (Status s = loadStationConfig(path, unused); !s) return Error{s.message()};
+  std::ifstream in(path);
+  return Json::parse(in, nullptr, false).dump();
 }
 
 }  // namespace hydra_multi

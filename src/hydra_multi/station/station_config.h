@@ -16,7 +16,9 @@
 //                        "gnc_inner_iterations": 3},
 //     "reconciliation": {"enabled": true, "place_max_distance": 0.3,
 //                        "place_max_radius_difference": 0.3, "min_valid_share": 0.5,
-//                        "merge_variance": 0.05},
+//                        "merge_variance": 0.05, "label_votes": false, "label_confusion": 0.1,
+//                        "label_min_odds": 3.0, "label_vertex_distance_m": 0.1,
+//                        "label_min_shared_vertices": 0.5},
 //     "rooms":          {"enabled": true, "thresholds": 12, "min_threshold": 0.43,
 //                        "max_threshold": 1.2, "min_room_places": 5,
 //                        "threshold_rule": "most", "max_door_radius": 0.55}
@@ -36,5 +38,10 @@ Status applyStationConfig(const std::string& text, const std::string& where,
 
 /// Reads FILE and applies it to `options` (applyStationConfig).
 Status loadStationConfig(const std::string& path, StationOptions& options);
+
+/// The settings of the configuration file at `path` as canonical JSON (keys sorted, no spaces;
+/// "{}" for an empty path, the defaults): what a run records in OUT/config.json and what `trials`
+/// compares before it reuses a run. Errors as loadStationConfig's.
+Result<std::string> canonicalStationConfig(const std::string& path);
 
 }  // namespace hydra_multi
