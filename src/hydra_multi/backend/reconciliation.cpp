@@ -11,6 +11,10 @@
 namespace hydra_multi {
 namespace {
 
+// How far apart two objects' centres may be for one's box to hold the other's (no furniture box
+// is larger).
+constexpr double kObjectReach = 5.0;
+
 struct Item {
   NodeId id;
   RobotId robot;
@@ -116,7 +120,7 @@ std::vector<MergeCandidate> proposeMerges(
     return inside(b.position, a.position, halfExtents(a)) ||
            inside(a.position, b.position, halfExtents(b));
   };
-  for (MergeCandidate c : groupUp(objects, Layer::kObjects, 5.0, objects_match))
+  for (MergeCandidate c : groupUp(objects, Layer::kObjects, kObjectReach, objects_match))
     candidates.push_back(c);
   return candidates;
 }
@@ -221,7 +225,8 @@ struct Voted {
   std::set<RobotId> robots;
 };
 
-// Most of the smaller vertex set lies within `reach` of the other: one surface.
+// A share label_min_shared_vertices of the smaller vertex set lies within
+// label_vertex_distance_m of the other's: one surface.
 bool shareTheirSurface(const Voted& a, const Voted& b, const ReconciliationOptions& options) {
   const Voted& small = a.vertices.size() <= b.vertices.size() ? a : b;
   const Voted& large = &small == &a ? b : a;
@@ -270,7 +275,7 @@ std::vector<LabelDispute> resolveLabelDisputes(const SceneGraph& graph,
   std::vector<std::tuple<double, size_t, size_t>> disputes;  // distance, winner, loser
   for (size_t i = 0; i < objects.size(); ++i) {
     const Voted& a = objects[i];
-    for (const auto& near : index.withinRadius(a.position, 5.0)) {
+    for (const auto& near : index.withinRadius(a.position, kObjectReach)) {
       const size_t j = near.index;
       const Voted& b = objects[j];
       if (j <= i || a.label == b.label) continue;

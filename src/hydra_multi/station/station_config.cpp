@@ -29,6 +29,15 @@ Setter number(std::function<void(StationOptions&, double)> set, double min, bool
   };
 }
 
+// A robot's label confusion as the label votes assume it (backend/reconciliation.h): at 0.5 or
+// more a robot's label would be no evidence, or evidence against itself.
+std::string setLabelConfusion(const Json& v, StationOptions& o) {
+  if (!v.is_number() || !(v.get<double>() > 0.0 && v.get<double>() < 0.5))
+    return "expected a number > 0 and < 0.5";
+  o.backend.reconciliation.label_confusion = v.get<double>();
+  return "";
+}
+
 Setter count(std::function<void(StationOptions&, int)> set, int min) {
   return [set, min](const Json& v, StationOptions& o) -> std::string {
     if (!v.is_number_integer() || v.get<int64_t>() < min || v.get<int64_t>() > 1000000)
@@ -130,18 +139,7 @@ const std::map<std::string, std::map<std::string, Setter>>& setters() {
                 0.0, true)},
         {"label_votes",
          flag([](StationOptions& o, bool b) { o.backend.reconciliation.label_votes = b; })},
-        {"label_confusion",
-         [](const Json& v, StationOptions& o) -> std::
-                                                  string {
-                                                    // At 0.5 or more a robot's label would be no
-                                                    // evidence, or evidence against itself.
-                                                    if (!v.is_number() || !(v.get<double>() > 0.0 &&
-                                                                            v.get<double>() < 0.5))
-                                                      return "expected a number > 0 and < 0.5";
-                                                    o.backend.reconciliation.label_confusion =
-                                                        v.get<double>();
-                                                    return "";
-                                                  }},
+        {"label_confusion", setLabelConfusion},
         {"label_min_odds",
          number([](StationOptions& o, double x) { o.backend.reconciliation.label_min_odds = x; },
                 1.0, false)},
