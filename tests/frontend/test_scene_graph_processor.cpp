@@ -119,6 +119,12 @@ TEST(SceneGraphProcessor, OutOfOrderUpdates) {
   EXPECT_EQ(report.applied, (std::vector<uint64_t>{1, 2, 3, 4}));
   EXPECT_EQ(shuffled.graph(), in_order.graph());
   EXPECT_EQ(shuffled.robot(kA)->mesh, in_order.robot(kA)->mesh);
+  // The counters: two applied on arrival, three buffered and applied later.
+  const SceneGraphProcessor::Counts& counts = shuffled.counts();
+  EXPECT_EQ(counts.applied, 2u);
+  EXPECT_EQ(counts.buffered, 3u);
+  EXPECT_EQ(counts.applied_from_buffer, 3u);
+  EXPECT_EQ(counts.rejected + counts.waiting + counts.duplicates, 0u);
 }
 
 // A gap longer than the reorder buffer makes the robot wait for a snapshot, which recovers it.
@@ -133,6 +139,8 @@ TEST(SceneGraphProcessor, GapWaitsForSnapshot) {
   EXPECT_EQ(processor.process(step(kA, 4)).outcome, UpdateOutcome::kWaiting);
   EXPECT_TRUE(processor.robot(kA)->waiting_for_snapshot);
   EXPECT_EQ(processor.process(step(kA, 5)).outcome, UpdateOutcome::kWaiting);
+  EXPECT_EQ(processor.counts().waiting, 2u);
+  EXPECT_EQ(processor.counts().applied_from_buffer, 0u);  // 2 and 3 were dropped with the wait
   ASSERT_FALSE(log.empty());
   EXPECT_NE(log.back().find("robot a update 5"), std::string::npos);
   // The snapshot: the robot's whole graph at sequence 6.

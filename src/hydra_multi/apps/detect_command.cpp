@@ -39,6 +39,7 @@ int runDetect(const DetectOptions& o) {
   auto streams = loadDatasetStreams(o.dataset);
   if (!streams) return fail(streams.error());
   const DatasetStreams& input = streams.value();
+  for (const std::string& skipped : input.skipped) std::cerr << "skipped " << skipped << std::endl;
   progress("replaying " + std::to_string(input.updates.size()) + " updates of " +
            std::to_string(input.robots.size()) + " robots");
 
@@ -102,6 +103,7 @@ int runDetect(const DetectOptions& o) {
   if (o.json) {
     const nlohmann::ordered_json j = {
         {"updates", input.updates.size()},
+        {"updates_skipped", input.skipped.size()},
         {"nodes", graph.numNodes()},
         {"inter_lc_detected", inter},
         {"inter_lc_correct", inter_correct},
@@ -115,9 +117,10 @@ int runDetect(const DetectOptions& o) {
   }
   const auto& c = processor.counts();
   std::cout << std::fixed << std::setprecision(2) << "frontend over " << o.dataset << ": "
-            << input.updates.size() << " updates (" << c.applied << " applied, " << c.duplicates
-            << " duplicate, " << c.buffered << " buffered, " << c.waiting << " waiting, "
-            << c.rejected << " rejected), " << graph.numNodes() << " nodes, "
+            << input.updates.size() << " updates (" << c.applied + c.applied_from_buffer
+            << " applied, " << c.duplicates << " duplicate, " << c.buffered << " buffered, "
+            << c.waiting << " waiting, " << c.rejected << " rejected; " << input.skipped.size()
+            << " damaged records skipped), " << graph.numNodes() << " nodes, "
             << detector.keyframesDescribed() << " keyframes described\n"
             << "inter-robot loop closures: " << inter << " detected, " << inter_correct
             << " correct (within 1 m and 10 degrees of the truth)\n";

@@ -59,7 +59,10 @@ struct StreamRobot {
   int64_t first_time_ns = 0, last_time_ns = 0;
 };
 
-int printStream(const std::string& path, const std::vector<RobotUpdate>& updates, bool json) {
+// The stream's updates per robot and its damaged records; 1 when there are any, so a script that
+// checks a recording notices.
+int printStream(const std::string& path, const std::vector<RobotUpdate>& updates,
+                const std::vector<std::string>& damaged, bool json) {
   std::map<RobotId, StreamRobot> robots;
   for (const RobotUpdate& u : updates) {
     StreamRobot& r = robots[u.robot];
@@ -97,10 +100,11 @@ int printStream(const std::string& path, const std::vector<RobotUpdate>& updates
     std::cout << Json{{"file", path},
                       {"kind", "robot updates"},
                       {"updates", updates.size()},
-                      {"robots", per_robot}}
+                      {"robots", per_robot},
+                      {"damaged_records", damaged}}
                      .dump()
               << "\n";
-    return 0;
+    return damaged.empty() ? 0 : 1;
   }
   std::cout << path << ": " << updates.size() << " robot updates\n";
   for (const auto& [robot, r] : robots) {
@@ -110,7 +114,11 @@ int printStream(const std::string& path, const std::vector<RobotUpdate>& updates
               << " edges, " << r.mesh_vertices << " mesh vertices, " << r.pose_graph_edges
               << " pose-graph edges, " << r.descriptors << " descriptors\n";
   }
-  return 0;
+  if (damaged.empty()) return 0;
+  std::cout << damaged.size() << (damaged.size() == 1 ? " damaged record" : " damaged records")
+            << " (left out above):\n";
+  for (const std::string& d : damaged) std::cout << "  " << d << "\n";
+  return 1;
 }
 
 // Whether a .dsgb file starts with a robot-update record (rather than a scene graph).
@@ -127,9 +135,10 @@ bool isUpdateStream(const std::string& path) {
 int runInfo(const InfoOptions& options) {
   const auto format = io::formatFromPath(options.path);
   if (format == io::FileFormat::kBinary && isUpdateStream(options.path)) {
-    auto updates = io::loadRobotUpdates(options.path);
+    std::vector<std::string> damaged;
+    auto updates = io::loadRobotUpdates(options.path, &damaged);
     if (!updates) return fail(updates.error());
-    return printStream(options.path, updates.value(), options.json);
+    return printStream(options.path, updates.value(), damaged, options.json);
   }
   auto graph = io::loadSceneGraph(options.path);
   if (!graph) return fail(graph.error());

@@ -73,6 +73,8 @@ int runRun(const RunOptions& o) {
     };
   }
   if (!o.quiet) options.log = [](const std::string& line) { std::cerr << line << std::endl; };
+  for (const std::string& skipped : streams.value().skipped)
+    std::cerr << "station: skipped " << skipped << std::endl;
   if (!o.quiet)
     std::cerr << "station: " << streams.value().updates.size() << " updates of "
               << streams.value().robots.size() << " robots, speed "
@@ -164,6 +166,12 @@ int runRun(const RunOptions& o) {
   for (const RoundTiming& r : result.rounds) backend_ms.push_back(r.report.time_s * 1e3);
   const ErrorStatistics frontend = errorStatistics(frontend_ms);
   const ErrorStatistics backend = errorStatistics(backend_ms);
+  // Updates: applied (on arrival or from the reorder buffer), refused as invalid, and those behind
+  // a missing one (a skipped record) that were never applied: buffered or refused while the robot
+  // waited for a snapshot.
+  const size_t applied = result.counts.applied + result.counts.applied_from_buffer;
+  const size_t behind_gap =
+      result.updates.size() - applied - result.counts.rejected - result.counts.duplicates;
   nlohmann::ordered_json metrics = scoreJson(score);
   const nlohmann::ordered_json extra = {
       {"lc_inter_detected", inter},
@@ -173,6 +181,10 @@ int runRun(const RunOptions& o) {
       {"lc_inter_correct", inter_correct},
       {"lc_alignment_inliers", alignment_inliers},
       {"lc_alignment_correct", alignment_correct},
+      {"updates_applied", applied},
+      {"updates_skipped", streams.value().skipped.size()},
+      {"updates_rejected", result.counts.rejected},
+      {"updates_behind_gap", behind_gap},
       {"robots", result.robots},
       {"robots_aligned", result.aligned.size()},
       {"merges_accepted", result.rounds.empty() ? 0 : result.rounds.back().report.merges_accepted},
@@ -200,6 +212,11 @@ int runRun(const RunOptions& o) {
   std::cout << std::fixed << std::setprecision(2) << "station over " << o.dataset << ": "
             << result.updates.size() << " updates, " << result.rounds.size() << " backend rounds, "
             << result.wall_s << " s\n"
+            << "  updates               " << applied << " applied of " << result.updates.size()
+            << ", " << streams.value().skipped.size()
+            << (streams.value().skipped.size() == 1 ? " damaged record" : " damaged records")
+            << " skipped, " << result.counts.rejected << " rejected, " << behind_gap
+            << " behind a missing update\n"
             << "  robots aligned        " << result.aligned.size() << " of " << result.robots
             << "\n"
             << "  inter-robot closures  " << inter << " detected (" << inter_correct

@@ -157,6 +157,7 @@ UpdateReport SceneGraphProcessor::process(const RobotUpdate& update) {
       ++counts_.rejected;
       break;
     }
+    ++counts_.applied_from_buffer;
   }
   return finish(report);
 }

@@ -95,9 +95,11 @@ class SceneGraphProcessor {
   /// The frame a node is in (its robot's, until the backend has aligned that robot).
   std::optional<RobotId> frameOf(NodeId station) const;
 
-  /// Counters over every call.
+  /// Counters over every call: the outcome of each arrival, and the buffered updates applied
+  /// later, once the one they waited for came (applied + applied_from_buffer were applied).
   struct Counts {
     size_t applied = 0, buffered = 0, duplicates = 0, waiting = 0, rejected = 0;
+    size_t applied_from_buffer = 0;
   };
   const Counts& counts() const { return counts_; }
 

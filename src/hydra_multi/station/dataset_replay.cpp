@@ -29,14 +29,17 @@ Result<DatasetStreams> loadDatasetStreams(const std::string& dir) {
     return Error{header_path + ": missing or malformed field (" + std::string(e.what()) + ")"};
   }
   for (size_t i = 0; i < streams.robots.size(); ++i) {
-    auto updates = io::loadRobotUpdates(streams.stream_paths[i]);
+    auto updates = io::loadRobotUpdates(streams.stream_paths[i], &streams.skipped);
     if (!updates) return Error{updates.error()};
     std::error_code ec;
     streams.bytes += fs::file_size(streams.stream_paths[i], ec);
     for (RobotUpdate& u : updates.value()) {
-      if (u.robot != streams.robots[i])
-        return Error{streams.stream_paths[i] + ": update " + std::to_string(u.sequence) +
-                     " is from robot " + u.robot.str() + ", not " + streams.robots[i].str()};
+      if (u.robot != streams.robots[i]) {
+        streams.skipped.push_back(streams.stream_paths[i] + ": update " +
+                                  std::to_string(u.sequence) + " is from robot " + u.robot.str() +
+                                  ", not " + streams.robots[i].str());
+        continue;
+      }
       streams.updates.push_back(std::move(u));
     }
   }

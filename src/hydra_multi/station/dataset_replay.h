@@ -17,9 +17,15 @@ struct DatasetStreams {
   std::vector<std::string> stream_paths;  ///< one per robot
   std::vector<RobotUpdate> updates;       ///< every robot's, by time (ties: robot, sequence)
   size_t bytes = 0;                       ///< of the stream files
+  /// Records of the streams that were left out, each with its file, byte and why: damaged (a
+  /// checksum, a truncated end, a payload that does not decode or holds NaNs) or from another
+  /// robot than the stream's. The station sees the gap they leave, as it would on a network.
+  std::vector<std::string> skipped;
 };
 
-/// Reads DIR/dataset.json and every stream it names; errors name the file and the problem.
+/// Reads DIR/dataset.json and every stream it names. A missing or malformed dataset.json or a
+/// stream that cannot be read is an error naming the file; a damaged record is skipped and listed
+/// (a recording cut short, one flipped byte), the records after it are read.
 Result<DatasetStreams> loadDatasetStreams(const std::string& dir);
 
 }  // namespace hydra_multi

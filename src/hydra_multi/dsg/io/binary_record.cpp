@@ -24,6 +24,7 @@ std::string encodeRecord(RecordKind kind, const std::string& payload) {
 }
 
 Result<std::optional<RecordView>> RecordReader::next() {
+  broken_.reset();
   if (pos_ == bytes_.size()) return std::optional<RecordView>();
   const size_t start = pos_;
   ByteReader reader(bytes_.substr(pos_), pos_);
@@ -53,8 +54,18 @@ Result<std::optional<RecordView>> RecordReader::next() {
     return std::optional<RecordView>(RecordView{static_cast<RecordKind>(kind), start, payload});
   } catch (const DecodeError& error) {
     pos_ = bytes_.size();  // nothing after a broken record can be trusted to start a record
+    broken_ = start;
     return Error{std::string("record at byte ") + std::to_string(start) + ": " + error.what()};
   }
+}
+
+std::optional<size_t> RecordReader::resynchronize() {
+  if (!broken_) return std::nullopt;
+  const size_t found = bytes_.find(kMagic, *broken_ + 1);
+  broken_.reset();
+  if (found == std::string_view::npos) return std::nullopt;
+  pos_ = found;
+  return found;
 }
 
 }  // namespace hydra_multi::io

@@ -31,16 +31,23 @@ std::string encodeRecord(RecordKind kind, const std::string& payload);
 
 /// Reads the records of a file one at a time, so a stream of updates is never loaded whole into
 /// decoded form. next() returns nullopt at the end; a broken record is an error naming its offset
-/// (checksum, version, kind, truncation), after which the reader is at the end.
+/// (checksum, version, kind, truncation), after which the reader is at the end unless
+/// resynchronize() moves it on.
 class RecordReader {
  public:
   explicit RecordReader(std::string_view bytes) : bytes_(bytes) {}
   /// The next record, nullopt at the end of the file, or an error.
   Result<std::optional<RecordView>> next();
+  /// After an error of next(): moves to the next magic bytes past the broken record's start, so the
+  /// records after a damaged one can still be read (each has its own checksum, so a stray "HMDG"
+  /// inside a payload is caught as broken in turn). Returns the byte it moved to, or nullopt if
+  /// there is none (the reader stays at the end).
+  std::optional<size_t> resynchronize();
 
  private:
   std::string_view bytes_;
   size_t pos_ = 0;
+  std::optional<size_t> broken_;  // start of the record next() last refused
 };
 
 }  // namespace hydra_multi::io

@@ -98,7 +98,8 @@ Status saveSceneGraph(const std::string& path, const SceneGraph& graph) {
   return Error{path + ": unknown format"};
 }
 
-Result<std::vector<RobotUpdate>> loadRobotUpdates(const std::string& path) {
+Result<std::vector<RobotUpdate>> loadRobotUpdates(const std::string& path,
+                                                  std::vector<std::string>* damaged) {
   auto bytes = readFile(path);
   if (!bytes) return Error{bytes.error()};
   const auto format = formatFromPath(path);
@@ -112,10 +113,19 @@ Result<std::vector<RobotUpdate>> loadRobotUpdates(const std::string& path) {
   RecordReader reader(bytes.value());
   while (true) {
     auto record = reader.next();
-    if (!record) return Error{path + ": " + record.error()};
+    if (!record) {
+      if (!damaged) return Error{path + ": " + record.error()};
+      damaged->push_back(path + ": " + record.error());
+      if (!reader.resynchronize()) break;
+      continue;
+    }
     if (!record.value()) break;
     auto update = decodeRobotUpdatePayload(*record.value());
-    if (!update) return Error{path + ": " + update.error()};
+    if (!update) {
+      if (!damaged) return Error{path + ": " + update.error()};
+      damaged->push_back(path + ": " + update.error());
+      continue;
+    }
     updates.push_back(std::move(update).value());
   }
   return updates;

@@ -27,7 +27,11 @@ Result<SceneGraph> loadSceneGraph(const std::string& path);
 /// Saves a graph (for .ply, its mesh); creates no folders.
 Status saveSceneGraph(const std::string& path, const SceneGraph& graph);
 
-/// Loads every robot update of a .dsgb update stream, or of a robot-update .json file.
-Result<std::vector<RobotUpdate>> loadRobotUpdates(const std::string& path);
+/// Loads every robot update of a .dsgb update stream, or of a robot-update .json file. A damaged
+/// record of a stream (checksum, truncation, a payload that does not decode) is an error; with
+/// `damaged`, it is described there instead ("PATH: record at byte N: why") and reading goes on
+/// at the next intact record, so one bad record does not cost the rest of a recording.
+Result<std::vector<RobotUpdate>> loadRobotUpdates(const std::string& path,
+                                                  std::vector<std::string>* damaged = nullptr);
 
 }  // namespace hydra_multi::io

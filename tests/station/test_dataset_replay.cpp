@@ -1,0 +1,135 @@
+// File replay of a dataset's streams: the robots' updates merged by time; a damaged record or an
+// update of the wrong robot is skipped and named (file, byte, why), the rest is read; a dataset
+// that cannot be replayed at all is an error naming the file.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "hydra_multi/dsg/io/binary_format.h"
+#include "hydra_multi/station/dataset_replay.h"
+#include "support/random_graphs.h"
+
+namespace hydra_multi {
+namespace {
+
+namespace fs = std::filesystem;
+
+class DatasetReplay : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("hydra_multi_replay_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    std::ofstream(dir_ / "dataset.json") << R"({"robots": [
+        {"robot": "a", "stream": "a.dsgb"}, {"robot": "b", "stream": "b.dsgb"}]})";
+    std::mt19937 rng(31);
+    for (const char robot : {'a', 'b'}) {
+      std::string& stream = streams_[robot];
+      for (uint64_t i = 0; i < 4; ++i) {
+        RobotUpdate u = testing::makeRandomUpdate(rng, i);
+        u.robot = *RobotId::parse(std::string(1, robot));
+        u.time_ns = static_cast<int64_t>(10 * i + (robot == 'b' ? 5 : 0));
+        starts_[robot].push_back(stream.size());
+        stream += io::encodeRobotUpdateBinary(u);
+      }
+    }
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  void write(char robot, const std::string& bytes) const {
+    std::ofstream(dir_ / (std::string(1, robot) + ".dsgb"), std::ios::binary) << bytes;
+  }
+  std::string path(char robot) const { return (dir_ / (std::string(1, robot) + ".dsgb")).string(); }
+
+  fs::path dir_;
+  std::map<char, std::string> streams_;
+  std::map<char, std::vector<size_t>> starts_;
+};
+
+std::vector<std::string> arrivals(const DatasetStreams& streams) {
+  std::vector<std::string> order;
+  for (const RobotUpdate& u : streams.updates)
+    order.push_back(u.robot.str() + std::to_string(u.sequence));
+  return order;
+}
+
+TEST_F(DatasetReplay, UpdatesOfAllRobotsByTime) {
+  write('a', streams_['a']);
+  write('b', streams_['b']);
+  const auto streams = loadDatasetStreams(dir_.string());
+  ASSERT_TRUE(streams.ok()) << streams.error();
+  EXPECT_EQ(arrivals(streams.value()),
+            (std::vector<std::string>{"a0", "b0", "a1", "b1", "a2", "b2", "a3", "b3"}));
+  EXPECT_TRUE(streams.value().skipped.empty());
+  EXPECT_EQ(streams.value().bytes, streams_['a'].size() + streams_['b'].size());
+}
+
+// One flipped byte in b's second update and a cut-off end of a's stream: those two records are
+// left out and named, every other update is read.
+TEST_F(DatasetReplay, DamagedRecordsAreSkippedAndNamed) {
+  std::string a = streams_['a'];
+  std::string b = streams_['b'];
+  b[(starts_['b'][1] + starts_['b'][2]) / 2] ^= 0x21;
+  write('a', a.substr(0, a.size() - 3));
+  write('b', b);
+  const auto streams = loadDatasetStreams(dir_.string());
+  ASSERT_TRUE(streams.ok()) << streams.error();
+  EXPECT_EQ(arrivals(streams.value()),
+            (std::vector<std::string>{"a0", "b0", "a1", "a2", "b2", "b3"}));
+  const std::vector<std::string>& skipped = streams.value().skipped;
+  ASSERT_EQ(skipped.size(), 2u);
+  EXPECT_EQ(skipped[0].rfind(path('a') + ": record at byte " + std::to_string(starts_['a'][3]), 0),
+            0u)
+      << skipped[0];
+  EXPECT_NE(skipped[0].find("truncated"), std::string::npos) << skipped[0];
+  EXPECT_EQ(skipped[1].rfind(path('b') + ": record at byte " + std::to_string(starts_['b'][1]), 0),
+            0u)
+      << skipped[1];
+  EXPECT_NE(skipped[1].find("checksum mismatch"), std::string::npos) << skipped[1];
+}
+
+// An update that names another robot than its stream's is not replayed as either.
+TEST_F(DatasetReplay, UpdateOfAnotherRobotIsSkipped) {
+  std::mt19937 rng(32);
+  RobotUpdate stray = testing::makeRandomUpdate(rng, 4);
+  stray.robot = *RobotId::parse("c");
+  write('a', streams_['a'] + io::encodeRobotUpdateBinary(stray));
+  write('b', streams_['b']);
+  const auto streams = loadDatasetStreams(dir_.string());
+  ASSERT_TRUE(streams.ok()) << streams.error();
+  EXPECT_EQ(streams.value().updates.size(), 8u);
+  ASSERT_EQ(streams.value().skipped.size(), 1u);
+  EXPECT_EQ(streams.value().skipped[0], path('a') + ": update 4 is from robot c, not a");
+}
+
+TEST_F(DatasetReplay, DatasetThatCannotBeReplayedIsAnError) {
+  write('a', streams_['a']);
+  const auto missing_stream = loadDatasetStreams(dir_.string());
+  ASSERT_FALSE(missing_stream.ok());
+  EXPECT_NE(missing_stream.error().find(path('b')), std::string::npos) << missing_stream.error();
+
+  std::ofstream(dir_ / "dataset.json") << R"({"robots": [{"robot": "?", "stream": "a.dsgb"}]})";
+  const auto unknown = loadDatasetStreams(dir_.string());
+  ASSERT_FALSE(unknown.ok());
+  EXPECT_NE(unknown.error().find("unknown robot '?'"), std::string::npos) << unknown.error();
+
+  std::ofstream(dir_ / "dataset.json") << R"({"robots": [{"robot": "a"}]})";
+  const auto malformed = loadDatasetStreams(dir_.string());
+  ASSERT_FALSE(malformed.ok());
+  EXPECT_NE(malformed.error().find("missing or malformed field"), std::string::npos)
+      << malformed.error();
+
+  const auto not_a_dataset = loadDatasetStreams((dir_ / "nowhere").string());
+  ASSERT_FALSE(not_a_dataset.ok());
+  EXPECT_NE(not_a_dataset.error().find("is " + (dir_ / "nowhere").string() + " a dataset"),
+            std::string::npos)
+      << not_a_dataset.error();
+}
+
+}  // namespace
+}  // namespace hydra_multi
