@@ -114,7 +114,9 @@ TEST(SceneGraphProcessor, OutOfOrderUpdates) {
   EXPECT_EQ(shuffled.process(step(kA, 3)).outcome, UpdateOutcome::kBuffered);
   EXPECT_EQ(shuffled.process(step(kA, 2)).outcome, UpdateOutcome::kBuffered);
   EXPECT_EQ(shuffled.process(step(kA, 4)).outcome, UpdateOutcome::kBuffered);
+  EXPECT_EQ(shuffled.heldBack(kA), 3u);
   const UpdateReport report = shuffled.process(step(kA, 1));
+  EXPECT_EQ(shuffled.heldBack(kA), 0u);
   EXPECT_EQ(report.outcome, UpdateOutcome::kApplied);
   EXPECT_EQ(report.applied, (std::vector<uint64_t>{1, 2, 3, 4}));
   EXPECT_EQ(shuffled.graph(), in_order.graph());

@@ -54,6 +54,11 @@ const RobotFrontendState* SceneGraphProcessor::robot(RobotId robot) const {
   return it == robots_.end() ? nullptr : &it->second.state;
 }
 
+size_t SceneGraphProcessor::heldBack(RobotId robot) const {
+  const auto it = robots_.find(robot);
+  return it == robots_.end() ? 0 : it->second.buffer.size();
+}
+
 std::vector<RobotId> SceneGraphProcessor::robots() const {
   std::vector<RobotId> robots;
   for (const auto& [robot, slot] : robots_) robots.push_back(robot);

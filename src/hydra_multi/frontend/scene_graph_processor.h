@@ -87,6 +87,8 @@ class SceneGraphProcessor {
   const SceneGraph& graph() const { return graph_; }
   const RobotFrontendState* robot(RobotId robot) const;
   std::vector<RobotId> robots() const;
+  /// Updates of a robot held in the reorder buffer, ahead of its missing next_sequence.
+  size_t heldBack(RobotId robot) const;
 
   /// The station id of a robot's node id, and back.
   static std::optional<NodeId> toStation(RobotId robot, NodeId robot_side);

@@ -167,6 +167,17 @@ StationResult runStation(const DatasetStreams& input, const StationOptions& opti
           " updates, " + std::to_string(detector.loopClosures().size()) + " loop closures");
   }
   detector.flush(processor);
+  // A robot whose stream has a gap (a lost or damaged update): say where its map stopped.
+  for (const RobotId robot : processor.robots()) {
+    const RobotFrontendState& state = *processor.robot(robot);
+    const size_t held = processor.heldBack(robot);
+    if (!state.waiting_for_snapshot && held == 0) continue;
+    log("robot " + robot.str() + ": its map stops before update " +
+        std::to_string(state.next_sequence) + " (" + std::to_string(state.updates_applied) +
+        " applied), " +
+        (state.waiting_for_snapshot ? std::string("waiting for a snapshot")
+                                    : std::to_string(held) + " later updates held behind it"));
+  }
   // The last round runs on the final state, after whatever round is running now.
   {
     std::unique_lock<std::mutex> lock(mutex);
