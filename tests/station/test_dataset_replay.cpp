@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -105,6 +106,30 @@ TEST_F(DatasetReplay, UpdateOfAnotherRobotIsSkipped) {
   EXPECT_EQ(streams.value().updates.size(), 8u);
   ASSERT_EQ(streams.value().skipped.size(), 1u);
   EXPECT_EQ(streams.value().skipped[0], path('a') + ": update 4 is from robot c, not a");
+}
+
+// An intact record whose update holds a NaN (a robot's estimator diverged) is left out the same
+// way, named by its update, what is wrong and where.
+TEST_F(DatasetReplay, UpdateWithNaNIsSkipped) {
+  std::mt19937 rng(33);
+  RobotUpdate diverged = testing::makeRandomUpdate(rng, 4);
+  diverged.robot = *RobotId::parse("b");
+  diverged.time_ns = 45;
+  ASSERT_FALSE(diverged.graph.mesh.vertices.empty());
+  diverged.graph.mesh.vertices[1].position.y() = std::nan("");
+  write('a', streams_['a']);
+  write('b', streams_['b'] + io::encodeRobotUpdateBinary(diverged));
+  const auto streams = loadDatasetStreams(dir_.string());
+  ASSERT_TRUE(streams.ok()) << streams.error();
+  EXPECT_EQ(streams.value().updates.size(), 8u);
+  ASSERT_EQ(streams.value().skipped.size(), 1u);
+  const std::string& why = streams.value().skipped[0];
+  EXPECT_EQ(why.rfind(path('b') + ": robot update record at byte " +
+                          std::to_string(streams_['b'].size()) + ": update 4 of robot b",
+                      0),
+            0u)
+      << why;
+  EXPECT_NE(why.find("mesh vertex 1: position is not finite"), std::string::npos) << why;
 }
 
 TEST_F(DatasetReplay, DatasetThatCannotBeReplayedIsAnError) {
