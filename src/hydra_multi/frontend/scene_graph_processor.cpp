@@ -296,7 +296,10 @@ Status SceneGraphProcessor::apply(RobotSlot& slot, const RobotUpdate& update,
                                    update.deformation.edges.begin(),
                                    update.deformation.edges.end());
   for (KeyframeDescriptor& d : descriptors) state.descriptors[d.keyframe] = std::move(d);
-  for (const NodeId id : removed) state.descriptors.erase(id);
+  // Descriptors of keyframes gone (a snapshot removes and re-sends the robot's nodes: only those it
+  // does not re-send are gone).
+  for (const NodeId id : removed)
+    if (!added.count(id)) state.descriptors.erase(id);
   state.next_sequence = update.sequence + 1;
   state.waiting_for_snapshot = false;
   state.last_time_ns = update.time_ns;
