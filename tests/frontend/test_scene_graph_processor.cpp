@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "hydra_multi/dsg/graph_delta.h"
+#include "hydra_multi/dsg/robot_stream.h"
 #include "hydra_multi/frontend/scene_graph_processor.h"
 #include "hydra_multi/sim/dataset.h"
 
@@ -208,6 +209,55 @@ TEST(SceneGraphProcessor, CorruptUpdateInARealStream) {
     EXPECT_NE(copy.process(stream[middle + 1]).outcome, UpdateOutcome::kApplied);
     EXPECT_EQ(copy.graph(), reference.graph());
   }
+}
+
+void expectSameRobotState(const SceneGraphProcessor& a, const SceneGraphProcessor& b,
+                          RobotId robot) {
+  EXPECT_EQ(a.graph(), b.graph());
+  const RobotFrontendState& x = *a.robot(robot);
+  const RobotFrontendState& y = *b.robot(robot);
+  EXPECT_EQ(x.next_sequence, y.next_sequence);
+  EXPECT_EQ(x.waiting_for_snapshot, y.waiting_for_snapshot);
+  EXPECT_EQ(x.mesh, y.mesh);
+  EXPECT_EQ(x.pose_graph, y.pose_graph);
+  EXPECT_EQ(x.control_points, y.control_points);
+  EXPECT_EQ(x.control_point_edges, y.control_point_edges);
+  EXPECT_EQ(x.descriptors, y.descriptors);
+}
+
+// The snapshot of a real stream so far (dsg/robot_stream.h), applied in place of an update,
+// leaves the station as the update did; after a lost update the robot waits, and the next
+// snapshot brings it back to the state of the whole stream.
+TEST(SceneGraphProcessor, SnapshotOfTheStreamSoFarRecoversALostUpdate) {
+  auto dataset = sim::simulateDataset(sim::presetConfig("tiny", 2).value());
+  ASSERT_TRUE(dataset.ok());
+  const std::vector<RobotUpdate>& stream = dataset.value().streams[0];
+  ASSERT_GT(stream.size(), 10u);
+  const RobotId robot = stream.front().robot;
+  SceneGraphProcessor reference, lossy;
+  RobotStreamState sent;
+  const size_t lost = stream.size() / 2, resent = lost + 3;
+  for (size_t i = 0; i < stream.size(); ++i) {
+    ASSERT_TRUE(sent.add(stream[i]).ok());
+    ASSERT_EQ(reference.process(stream[i]).outcome, UpdateOutcome::kApplied);
+    if (i % 4 == 2) {  // the snapshot instead of update i, on a copy
+      SceneGraphProcessor by_snapshot;
+      for (size_t j = 0; j < i; ++j) by_snapshot.process(stream[j]);
+      const UpdateReport report = by_snapshot.process(sent.snapshot());
+      ASSERT_EQ(report.outcome, UpdateOutcome::kApplied) << report.message;
+      expectSameRobotState(by_snapshot, reference, robot);
+    }
+    if (i == lost) continue;
+    const UpdateReport report = lossy.process(i == resent ? sent.snapshot() : stream[i]);
+    if (i > lost && i < resent) {
+      EXPECT_EQ(report.outcome, UpdateOutcome::kBuffered);
+    } else if (i >= resent) {
+      EXPECT_EQ(report.outcome, UpdateOutcome::kApplied) << report.message;
+    }
+  }
+  EXPECT_EQ(lossy.heldBack(robot), 0u);
+  expectSameRobotState(lossy, reference, robot);
+  EXPECT_EQ(sent.snapshot().sequence, stream.back().sequence);
 }
 
 }  // namespace

@@ -180,6 +180,38 @@ TEST(Dataset, SplitsAreMergedAndSpuriousObjectsDeleted) {
   }
 }
 
+// With snapshot_every, every third update is the robot's whole map: the same map as the deltas
+// build (the spurious objects deleted in between are not in it), and the summary replays it so.
+TEST(Dataset, PeriodicSnapshotsCarryTheSameMap) {
+  SimulationConfig config = tiny();
+  config.mapper.spurious_probability = 1.0;
+  config.mapper.spurious_lifetime_s = 6.0;
+  const SimulatedDataset deltas = simulate(config);
+  config.mapper.snapshot_every = 3;
+  const SimulatedDataset snapshots = simulate(config);
+  const auto summaries = summarizeDataset(snapshots);
+  const auto delta_summaries = summarizeDataset(deltas);
+  ASSERT_TRUE(summaries.ok() && delta_summaries.ok());
+  for (size_t r = 0; r < deltas.runs.size(); ++r) {
+    const std::vector<RobotUpdate>& stream = snapshots.streams[r];
+    ASSERT_EQ(stream.size(), deltas.streams[r].size());
+    size_t removed = 0;
+    for (const RobotUpdate& u : deltas.streams[r]) removed += u.graph.removed_nodes.size();
+    EXPECT_GT(removed, 0u);
+    SceneGraph graph;
+    for (const RobotUpdate& u : stream) {
+      EXPECT_EQ(u.is_snapshot, u.sequence % 3 == 0) << u.sequence;
+      if (u.is_snapshot) graph = SceneGraph();
+      ASSERT_TRUE(applyDelta(graph, u.graph).ok());
+    }
+    EXPECT_EQ(graph, replay(deltas.streams[r]));
+    EXPECT_EQ(summaries.value()[r].graph.nodes, delta_summaries.value()[r].graph.nodes);
+    EXPECT_EQ(summaries.value()[r].graph.nodes_per_layer,
+              delta_summaries.value()[r].graph.nodes_per_layer);
+    EXPECT_GT(summaries.value()[r].bytes, delta_summaries.value()[r].bytes);
+  }
+}
+
 // A lidar robot sends no objects and no labels, and says so.
 TEST(Dataset, LidarRobotHasNoSemantics) {
   SimulationConfig config = tiny();

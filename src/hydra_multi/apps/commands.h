@@ -63,6 +63,8 @@ struct SimulateOptions {
   /// Each robot's chance of labelling an object as its look-alike class (the preset's 0.1 when
   /// absent; 0 as with ground-truth segmentation, like the paper's uHumans2).
   std::optional<double> label_confusion;
+  /// Every this many updates a robot sends its whole map as a snapshot (0: only the first).
+  size_t snapshot_every = 0;
   bool quiet = false;  ///< no progress lines on stderr
 };
 int runSimulate(const SimulateOptions& options);

@@ -125,6 +125,11 @@ int main(int argc, char** argv) {
                    "chance that a robot labels an object as its look-alike class (default: the "
                    "preset's, 0.1; 0 as with ground-truth segmentation)")
       ->check(CLI::Range(0.0, 1.0));
+  simulate_cmd
+      ->add_option("--snapshot-every", simulate.snapshot_every,
+                   "every N-th update of a robot is its whole map, so a station that lost an "
+                   "update recovers (0: only the first)")
+      ->capture_default_str();
   simulate_cmd->add_flag("--quiet", simulate.quiet, "no progress lines on stderr");
 
   EvaluateOptions evaluate;

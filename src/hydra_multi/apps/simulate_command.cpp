@@ -20,8 +20,8 @@ int runSimulate(const SimulateOptions& o) {
   };
   auto config = sim::presetConfig(o.preset, o.seed, o.robots, o.scale);
   if (!config) return fail(config.error());
-  if (o.label_confusion)
-    config.value().mapper.detection.confusion_probability = *o.label_confusion;
+  if (o.label_confusion) config.value().mapper.detection.confusion_probability = *o.label_confusion;
+  config.value().mapper.snapshot_every = o.snapshot_every;
   const auto progress = [&](const std::string& line) {
     if (!o.quiet)
       std::cerr << "[" << std::fixed << std::setprecision(1) << elapsed() << " s] " << line

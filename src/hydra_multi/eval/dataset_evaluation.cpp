@@ -241,6 +241,7 @@ Result<DatasetDifficulty> measureDatasetDifficulty(const std::string& dir, size_
     SceneGraph graph;
     std::map<NodeId, int64_t> first_sent;
     for (const RobotUpdate& update : updates.value()) {
+      if (update.is_snapshot) graph = SceneGraph();  // the robot's whole map again
       if (Status s = applyDelta(graph, update.graph); !s)
         return Error{truth.streams.at(robot) + ": update " + std::to_string(update.sequence) +
                      ": " + s.message()};

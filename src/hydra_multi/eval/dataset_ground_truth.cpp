@@ -191,6 +191,7 @@ Result<SceneGraph> replayRobotGraph(const DatasetGroundTruth& dataset, RobotId r
   if (!updates) return Error{updates.error()};
   SceneGraph graph;
   for (const RobotUpdate& update : updates.value()) {
+    if (update.is_snapshot) graph = SceneGraph();  // the robot's whole map again
     if (Status s = applyDelta(graph, update.graph); !s)
       return Error{it->second + ": update " + std::to_string(update.sequence) + ": " + s.message()};
   }

@@ -143,6 +143,7 @@ Result<std::vector<RobotRunSummary>> summarizeDataset(const SimulatedDataset& da
     SceneGraph graph;
     for (const RobotUpdate& update : dataset.streams[r]) {
       if (Status status = validateRobotUpdate(update); !status) return Error{status.message()};
+      if (update.is_snapshot) graph = SceneGraph();  // the robot's whole map again
       if (Status status = applyDelta(graph, update.graph); !status)
         return Error{"robot " + run.robot.str() + " update " + std::to_string(update.sequence) +
                      ": " + status.message()};
@@ -231,6 +232,7 @@ json parametersJson(const SimulationConfig& c) {
         {"rotation_sigma_deg", c.loop_closures.rotation_sigma_deg}}},
       {"mapper",
        {{"update_period_s", m.update_period_s},
+        {"snapshot_every", m.snapshot_every},
         {"mesh_noise_sigma_m", m.mesh_noise_sigma},
         {"control_point_spacing_m", m.control_point_spacing},
         {"keypoint_sigma_base_m", m.keypoint_sigma_base},

@@ -5,8 +5,10 @@
 #include <map>
 #include <random>
 #include <set>
+#include <stdexcept>
 #include <tuple>
 
+#include "hydra_multi/dsg/robot_stream.h"
 #include "hydra_multi/sim/visibility.h"
 
 namespace hydra_multi::sim {
@@ -531,7 +533,16 @@ class RobotMapper {
 
 std::vector<RobotUpdate> emulateRobotMap(const SensedWorld& sensed, const RobotRun& run,
                                          const MapperOptions& options) {
-  return RobotMapper(sensed, run, options).run();
+  std::vector<RobotUpdate> updates = RobotMapper(sensed, run, options).run();
+  if (options.snapshot_every == 0) return updates;
+  // Every snapshot_every-th update goes as the snapshot of the map so far.
+  RobotStreamState sent;
+  for (RobotUpdate& u : updates) {
+    if (Status s = sent.add(u); !s)
+      throw std::logic_error("robot " + run.robot.str() + "'s own stream: " + s.message());
+    if (u.sequence > 0 && u.sequence % options.snapshot_every == 0) u = sent.snapshot();
+  }
+  return updates;
 }
 
 }  // namespace hydra_multi::sim

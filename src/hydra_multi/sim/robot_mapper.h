@@ -23,7 +23,8 @@
 //   visual   the keyframe descriptor (textures.h) with depth-dependent keypoint noise;
 //   loop closures ending at this keyframe (loop_closures.h).
 // An update is flushed every update_period_s of robot time and after the last keyframe; the
-// first is marked as a snapshot (it is the whole graph so far).
+// first is marked as a snapshot (it is the whole graph so far), and with snapshot_every so is
+// every snapshot_every-th, sent whole (dsg/robot_stream.h).
 
 #include <memory>
 #include <string>
@@ -58,6 +59,9 @@ SensorProfile lidarProfile();
 
 struct MapperOptions {
   double update_period_s = 5.0;
+  /// Every this many updates the robot sends the snapshot of its whole map instead of a delta,
+  /// so a station that lost an update recovers (0: only the first update is a snapshot).
+  size_t snapshot_every = 0;
   double mesh_noise_sigma = 0.01;      ///< per vertex and axis (m)
   double control_point_spacing = 2.5;  ///< deformation-graph voxel (m; Hydra: 2.5)
   double keypoint_sigma_base = 0.002;  ///< keypoint noise a + b * depth^2 (m), RGB-D-like

@@ -1,0 +1,40 @@
+#pragma once
+// What a robot has sent so far, folded into one snapshot. A robot that sends deltas can send this
+// now and then instead (the paper's robots send their whole scene graph every time): a station
+// that lost an update, and so waits for a snapshot, recovers with it (frontend/
+// scene_graph_processor.h applies a snapshot in place of the robot's whole state).
+
+#include <map>
+#include <vector>
+
+#include "hydra_multi/core/result.h"
+#include "hydra_multi/dsg/robot_update.h"
+
+namespace hydra_multi {
+
+class RobotStreamState {
+ public:
+  /// The robot's next update, in sequence order (a snapshot starts over). Checked as the station
+  /// checks it; an update that does not apply is an error naming it, and changes nothing.
+  Status add(const RobotUpdate& update);
+
+  /// The snapshot that stands for every update added: the graph and mesh they built, each
+  /// pose-graph edge, control point (and edge) and descriptor whose keyframe is still there, and
+  /// the last update's robot, sequence, time and layers. Applied where the last update would be,
+  /// it leaves the station as the updates did.
+  RobotUpdate snapshot() const;
+
+  /// Updates added since the last snapshot among them (0 before the first).
+  size_t updatesAdded() const { return added_; }
+
+ private:
+  RobotUpdate last_;  // header fields only
+  SceneGraph graph_;  // robot-side ids, with the robot's mesh
+  std::vector<PoseGraphEdge> pose_graph_;
+  DeformationGraphDelta deformation_;
+  std::map<NodeId, KeyframeDescriptor> descriptors_;
+  size_t added_ = 0;
+  bool started_ = false;
+};
+
+}  // namespace hydra_multi
