@@ -24,7 +24,8 @@ class RobotStreamState {
   /// it leaves the station as the updates did.
   RobotUpdate snapshot() const;
 
-  /// Updates added since the last snapshot among them (0 before the first).
+  /// The updates snapshot() stands for: the last snapshot added and those after it (0 before the
+  /// first).
   size_t updatesAdded() const { return added_; }
 
  private:
