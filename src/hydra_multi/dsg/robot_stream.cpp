@@ -4,6 +4,14 @@
 
 namespace hydra_multi {
 
+Status applyToRobotGraph(SceneGraph& graph, const RobotUpdate& update) {
+  if (!update.is_snapshot) return applyDelta(graph, update.graph);
+  auto whole = graphFromSnapshot(update.graph);
+  if (!whole) return Error{whole.error()};
+  graph = std::move(whole).value();
+  return Status::Ok();
+}
+
 Status RobotStreamState::add(const RobotUpdate& update) {
   const std::string at = "update " + std::to_string(update.sequence) + " of robot " +
                          (update.robot.isValid() ? update.robot.str() : "?");
@@ -15,10 +23,8 @@ Status RobotStreamState::add(const RobotUpdate& update) {
     if (update.sequence != last_.sequence + 1)
       return Error{at + ": expected sequence " + std::to_string(last_.sequence + 1)};
   }
-  SceneGraph graph = update.is_snapshot ? SceneGraph() : graph_;
-  if (Status applied = applyDelta(graph, update.graph); !applied)
+  if (Status applied = applyToRobotGraph(graph_, update); !applied)
     return Error{at + ": " + applied.message()};
-  graph_ = std::move(graph);
   if (update.is_snapshot) {
     pose_graph_.clear();
     deformation_ = {};

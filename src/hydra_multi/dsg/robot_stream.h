@@ -12,6 +12,10 @@
 
 namespace hydra_multi {
 
+/// Applies an update's graph to the robot's own graph (robot-side ids) as a replay of its stream
+/// does: a snapshot replaces the graph, a delta changes it. On an error nothing changes.
+Status applyToRobotGraph(SceneGraph& graph, const RobotUpdate& update);
+
 class RobotStreamState {
  public:
   /// The robot's next update, in sequence order (a snapshot starts over). Checked as the station

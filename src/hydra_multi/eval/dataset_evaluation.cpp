@@ -9,6 +9,7 @@
 
 #include "hydra_multi/dsg/graph_delta.h"
 #include "hydra_multi/dsg/io/graph_file.h"
+#include "hydra_multi/dsg/robot_stream.h"
 #include "hydra_multi/eval/trajectory_error.h"
 
 namespace hydra_multi {
@@ -241,8 +242,7 @@ Result<DatasetDifficulty> measureDatasetDifficulty(const std::string& dir, size_
     SceneGraph graph;
     std::map<NodeId, int64_t> first_sent;
     for (const RobotUpdate& update : updates.value()) {
-      if (update.is_snapshot) graph = SceneGraph();  // the robot's whole map again
-      if (Status s = applyDelta(graph, update.graph); !s)
+      if (Status s = applyToRobotGraph(graph, update); !s)
         return Error{truth.streams.at(robot) + ": update " + std::to_string(update.sequence) +
                      ": " + s.message()};
       for (const Node& node : update.graph.nodes) first_sent.emplace(node.id, update.time_ns);

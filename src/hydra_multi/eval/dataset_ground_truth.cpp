@@ -8,6 +8,7 @@
 
 #include "hydra_multi/dsg/graph_delta.h"
 #include "hydra_multi/dsg/io/graph_file.h"
+#include "hydra_multi/dsg/robot_stream.h"
 #include "hydra_multi/eval/trajectory_error.h"
 
 namespace hydra_multi {
@@ -191,8 +192,7 @@ Result<SceneGraph> replayRobotGraph(const DatasetGroundTruth& dataset, RobotId r
   if (!updates) return Error{updates.error()};
   SceneGraph graph;
   for (const RobotUpdate& update : updates.value()) {
-    if (update.is_snapshot) graph = SceneGraph();  // the robot's whole map again
-    if (Status s = applyDelta(graph, update.graph); !s)
+    if (Status s = applyToRobotGraph(graph, update); !s)
       return Error{it->second + ": update " + std::to_string(update.sequence) + ": " + s.message()};
   }
   return graph;

@@ -11,6 +11,7 @@
 #include "hydra_multi/dsg/graph_delta.h"
 #include "hydra_multi/dsg/io/binary_format.h"
 #include "hydra_multi/dsg/io/graph_file.h"
+#include "hydra_multi/dsg/robot_stream.h"
 
 namespace hydra_multi::sim {
 namespace {
@@ -143,8 +144,7 @@ Result<std::vector<RobotRunSummary>> summarizeDataset(const SimulatedDataset& da
     SceneGraph graph;
     for (const RobotUpdate& update : dataset.streams[r]) {
       if (Status status = validateRobotUpdate(update); !status) return Error{status.message()};
-      if (update.is_snapshot) graph = SceneGraph();  // the robot's whole map again
-      if (Status status = applyDelta(graph, update.graph); !status)
+      if (Status status = applyToRobotGraph(graph, update); !status)
         return Error{"robot " + run.robot.str() + " update " + std::to_string(update.sequence) +
                      ": " + status.message()};
       s.bytes += io::encodeRobotUpdateBinary(update).size();
