@@ -2,9 +2,11 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <limits>
 #include <string>
 #include <thread>
 
+#include "hydra_multi/apps/command_line.h"
 #include "hydra_multi/apps/commands.h"
 #include "hydra_multi/core/version.h"
 
@@ -16,92 +18,93 @@ int main(int argc, char** argv) {
       ".ply (mesh, write only). A .json file in Spark-DSG's layout is recognised by its content."};
   app.set_version_flag("--version", std::string("hydra-multi ") + hydra_multi::kVersion);
   app.require_subcommand(1);
+  app.footer(
+      "Errors go to stderr as 'hydra-multi: error: <what and where>'. Exit codes: 0 success; 1 a\n"
+      "failure (a missing, unreadable or malformed file, a failed run); 2 a wrong command line "
+      "(an\n"
+      "unknown command or option, a missing or out-of-range value).");
+  CommandLine cli(app);
+  constexpr double kMax = std::numeric_limits<double>::max();
+  constexpr uint64_t kAnySeed = std::numeric_limits<uint64_t>::max();
 
   InfoOptions info;
   CLI::App* info_cmd = app.add_subcommand(
       "info", "Counts per layer and per robot of a scene graph or update stream");
-  info_cmd
-      ->add_option("file", info.path, "scene graph (.json, .spark.json, .dsgb) or update stream")
-      ->required()
-      ->check(CLI::ExistingFile);
+  cli.inputFile(info_cmd, "file", info.path,
+                "scene graph (.json, .spark.json, .dsgb) or update stream")
+      ->required();
   info_cmd->add_flag("--json", info.json, "print exactly one JSON object on stdout");
 
   ConvertOptions convert;
   CLI::App* convert_cmd =
       app.add_subcommand("convert", "Convert a scene graph between formats (by extension)");
-  convert_cmd->add_option("input", convert.input, "input graph (.json, .spark.json, .dsgb)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  convert_cmd->add_option("output", convert.output, "output (.json, .spark.json, .dsgb, .ply)")
+  cli.inputFile(convert_cmd, "input", convert.input, "input graph (.json, .spark.json, .dsgb)")
+      ->required();
+  cli.outputFile(convert_cmd, "output", convert.output, "output (.json, .spark.json, .dsgb, .ply)")
       ->required();
 
   PgoOptions pgo;
   pgo.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   CLI::App* pgo_cmd = app.add_subcommand(
       "pgo", "Pose-graph optimization of g2o/TORO files (robust, multi-robot, evaluated)");
-  pgo_cmd
-      ->add_option("--input", pgo.inputs, "g2o/TORO file; repeat to merge (duplicates count once)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  pgo_cmd->add_flag("--unknown-frames", pgo.unknown_frames,
-                    "each input is a robot of unknown frame: align by robust pose averaging");
+  cli.inputFiles(pgo_cmd, "--input", pgo.inputs,
+                 "g2o/TORO file; repeat to merge (duplicates count once)")
+      ->required();
+  CLI::Option* unknown_frames = pgo_cmd->add_flag(
+      "--unknown-frames", pgo.unknown_frames,
+      "each input is a robot of unknown frame: align by robust pose averaging (replaces --init)");
   pgo_cmd->add_option("--residual", pgo.residual, "geodesic (SE(3) log) or chordal (SE-Sync cost)")
       ->check(CLI::IsMember({"geodesic", "chordal"}))
       ->capture_default_str();
   pgo_cmd->add_option("--init", pgo.init, "odometry or chordal")
       ->check(CLI::IsMember({"odometry", "chordal"}))
-      ->capture_default_str();
+      ->capture_default_str()
+      ->excludes(unknown_frames);
   pgo_cmd->add_option("--robust", pgo.robust, "none or gnc (GNC-TLS over loop closures)")
       ->check(CLI::IsMember({"none", "gnc"}))
       ->capture_default_str();
-  pgo_cmd
-      ->add_option("--outliers", pgo.outliers, "inject outliers: their share of all loop closures")
-      ->check(CLI::Range(0.0, 0.99));
-  pgo_cmd->add_option("--seed", pgo.seed, "seed of the outlier injection")->capture_default_str();
-  pgo_cmd->add_option("--inliers-xml", pgo.inliers_xml, "gt_info.xml: 1-based inlier edge numbers")
-      ->check(CLI::ExistingFile);
-  pgo_cmd
-      ->add_option("--inlier-edges", pgo.inlier_edges,
-                   "labels: g2o file whose edges are the true loop closures")
-      ->check(CLI::ExistingFile);
-  pgo_cmd
-      ->add_option("--min-inliers", pgo.min_inliers,
-                   "k: inlier loop closures a robot pair needs to be aligned")
+  cli.real(pgo_cmd, "--outliers", pgo.outliers, "inject outliers: their share of all loop closures",
+           {0.0, 0.99});
+  cli.integer(pgo_cmd, "--seed", pgo.seed, "seed of the outlier injection", uint64_t{0}, kAnySeed)
+      ->capture_default_str();
+  CLI::Option* inliers_xml = cli.inputFile(pgo_cmd, "--inliers-xml", pgo.inliers_xml,
+                                           "gt_info.xml: 1-based inlier edge numbers");
+  cli.inputFile(pgo_cmd, "--inlier-edges", pgo.inlier_edges,
+                "labels: g2o file whose edges are the true loop closures")
+      ->excludes(inliers_xml);
+  cli.integer(pgo_cmd, "--min-inliers", pgo.min_inliers,
+              "k: inlier loop closures a robot pair needs to be aligned", size_t{1},
+              size_t{1000000})
       ->capture_default_str();
   pgo_cmd
       ->add_option("--linear-solver", pgo.linear_solver,
                    "GNC solves: auto (Cholesky unless one iteration takes > 0.5 s), cholesky, cg")
       ->check(CLI::IsMember({"auto", "cholesky", "cg"}))
       ->capture_default_str();
-  pgo_cmd
-      ->add_option("--gnc-inner-iterations", pgo.gnc_inner_iterations,
-                   "Levenberg-Marquardt iterations per GNC solve (0: up to 100)")
+  cli.integer(pgo_cmd, "--gnc-inner-iterations", pgo.gnc_inner_iterations,
+              "Levenberg-Marquardt iterations per GNC solve (0: up to 100)", 0, 1000)
       ->capture_default_str();
-  pgo_cmd->add_option("--groundtruth", pgo.groundtruth, "true poses (g2o vertices or TORO edges)")
-      ->check(CLI::ExistingFile);
-  pgo_cmd->add_option("--output", pgo.output, "write the optimized graph (g2o)");
+  cli.inputFile(pgo_cmd, "--groundtruth", pgo.groundtruth,
+                "true poses (g2o vertices or TORO edges)");
+  cli.outputFile(pgo_cmd, "--output", pgo.output, "write the optimized graph (g2o)");
   pgo_cmd->add_flag("--json", pgo.json, "print exactly one JSON object on stdout");
   pgo_cmd->add_flag("--skip-bad-lines", pgo.skip_bad_lines, "report malformed lines and go on");
-  pgo_cmd->add_option("--tolerance", pgo.tolerance, "relative cost change that ends a solve")
+  cli.real(pgo_cmd, "--tolerance", pgo.tolerance, "relative cost change that ends a solve",
+           {0.0, 1.0, true, true})
       ->capture_default_str();
-  pgo_cmd->add_option("--threads", pgo.threads, "solver threads")->capture_default_str();
+  cli.integer(pgo_cmd, "--threads", pgo.threads, "solver threads", 1, 1024)->capture_default_str();
   pgo_cmd->add_flag("--quiet", pgo.quiet, "no progress lines on stderr");
 
   AteOptions ate;
   CLI::App* ate_cmd = app.add_subcommand(
       "ate", "Absolute trajectory error after SE(3) alignment (KITTI or TUM trajectories)");
-  ate_cmd->add_option("--est", ate.estimate, "estimated trajectory")
-      ->required()
-      ->check(CLI::ExistingFile);
-  ate_cmd->add_option("--gt", ate.reference, "reference trajectory")
-      ->required()
-      ->check(CLI::ExistingFile);
+  cli.inputFile(ate_cmd, "--est", ate.estimate, "estimated trajectory")->required();
+  cli.inputFile(ate_cmd, "--gt", ate.reference, "reference trajectory")->required();
   ate_cmd->add_option("--format", ate.format, "kitti (pose per line) or tum (associated by time)")
       ->check(CLI::IsMember({"kitti", "tum"}))
       ->capture_default_str();
-  ate_cmd
-      ->add_option("--max-time-difference", ate.max_time_difference,
-                   "TUM: largest stamp difference of an associated pair (s)")
+  cli.real(ate_cmd, "--max-time-difference", ate.max_time_difference,
+           "TUM: largest stamp difference of an associated pair (s)", {0.0, kMax, true})
       ->capture_default_str();
   ate_cmd->add_flag("--json", ate.json, "print exactly one JSON object on stdout");
 
@@ -112,102 +115,112 @@ int main(int argc, char** argv) {
       ->add_option("--preset", simulate.preset,
                    "office-3, residence-3f, dorm-2, dorm-2-meet, hetero-2 or tiny")
       ->capture_default_str();
-  simulate_cmd->add_option("--seed", simulate.seed, "everything follows from it")
+  cli.integer(simulate_cmd, "--seed", simulate.seed, "everything follows from it", uint64_t{0},
+              kAnySeed)
       ->capture_default_str();
-  simulate_cmd->add_option("--out", simulate.out, "dataset directory (created)")->required();
-  simulate_cmd->add_option("--robots", simulate.robots, "team size (default: the preset's)")
-      ->check(CLI::Range(1, 10));
-  simulate_cmd->add_option("--scale", simulate.scale, "rooms along the corridor, times S")
-      ->check(CLI::Range(0.25, 4.0))
+  cli.outputDirectory(simulate_cmd, "--out", simulate.out, "dataset directory (created)")
+      ->required();
+  cli.integer(simulate_cmd, "--robots", simulate.robots, "team size (default: the preset's)", 1,
+              10);
+  cli.real(simulate_cmd, "--scale", simulate.scale, "rooms along the corridor, times S",
+           {0.25, 4.0})
       ->capture_default_str();
-  simulate_cmd
-      ->add_option("--label-confusion", simulate.label_confusion,
-                   "chance that a robot labels an object as its look-alike class (default: the "
-                   "preset's, 0.1; 0 as with ground-truth segmentation)")
-      ->check(CLI::Range(0.0, 1.0));
-  simulate_cmd
-      ->add_option("--snapshot-every", simulate.snapshot_every,
-                   "every N-th update of a robot is its whole map, so a station that lost an "
-                   "update recovers (0: only the first)")
+  cli.real(simulate_cmd, "--label-confusion", simulate.label_confusion,
+           "chance that a robot labels an object as its look-alike class (default: the "
+           "preset's, 0.1; 0 as with ground-truth segmentation)",
+           {0.0, 1.0});
+  cli.integer(simulate_cmd, "--snapshot-every", simulate.snapshot_every,
+              "every N-th update of a robot is its whole map, so a station that lost an "
+              "update recovers (0: only the first)",
+              size_t{0}, size_t{1000000})
       ->capture_default_str();
   simulate_cmd->add_flag("--quiet", simulate.quiet, "no progress lines on stderr");
 
   EvaluateOptions evaluate;
   CLI::App* evaluate_cmd = app.add_subcommand(
       "evaluate", "Score a scene graph (global frame = robot 0's) against a dataset's truth");
-  evaluate_cmd->add_option("--dataset", evaluate.dataset, "dataset directory (from simulate)")
-      ->required()
-      ->check(CLI::ExistingDirectory);
-  evaluate_cmd->add_option("--result", evaluate.result, "scene graph (.json, .spark.json, .dsgb)")
-      ->required()
-      ->check(CLI::ExistingFile);
+  cli.inputDirectory(evaluate_cmd, "--dataset", evaluate.dataset,
+                     "dataset directory (from simulate)")
+      ->required();
+  cli.inputFile(evaluate_cmd, "--result", evaluate.result,
+                "scene graph (.json, .spark.json, .dsgb)")
+      ->required();
   evaluate_cmd->add_flag("--json", evaluate.json, "print exactly one JSON object on stdout");
-  evaluate_cmd->add_option("--objects", evaluate.objects_csv,
-                           "write every estimated object's verdict (correct, duplicate, "
-                           "wrong_label, misplaced) to this CSV file");
-  evaluate_cmd->add_option("--keyframes", evaluate.keyframes_csv,
-                           "write every keyframe's position, true position and error (after the "
-                           "ATE's fit) to this CSV file");
+  cli.outputFile(evaluate_cmd, "--objects", evaluate.objects_csv,
+                 "write every estimated object's verdict (correct, duplicate, wrong_label, "
+                 "misplaced) to this CSV file");
+  cli.outputFile(evaluate_cmd, "--keyframes", evaluate.keyframes_csv,
+                 "write every keyframe's position, true position and error (after the ATE's "
+                 "fit) to this CSV file");
 
   DatasetGraphOptions dataset_graph;
   CLI::App* dataset_graph_cmd = app.add_subcommand(
       "dataset-graph", "One robot's final graph from a dataset's stream, in the robot's frame");
-  dataset_graph_cmd->add_option("--dataset", dataset_graph.dataset, "dataset directory")
-      ->required()
-      ->check(CLI::ExistingDirectory);
+  cli.inputDirectory(dataset_graph_cmd, "--dataset", dataset_graph.dataset, "dataset directory")
+      ->required();
   dataset_graph_cmd->add_option("--robot", dataset_graph.robot, "robot letter (a, b, ...) or index")
       ->required();
-  dataset_graph_cmd->add_option("--out", dataset_graph.out, "graph file (.json, .dsgb, .ply, ...)")
+  cli.outputFile(dataset_graph_cmd, "--out", dataset_graph.out,
+                 "graph file (.json, .dsgb, .ply, ...)")
       ->required();
 
   DetectOptions detect;
   CLI::App* detect_cmd = app.add_subcommand(
       "detect", "The frontend alone over a dataset: processor and loop-closure detection, timed");
-  detect_cmd->add_option("--dataset", detect.dataset, "dataset directory (from simulate)")
-      ->required()
-      ->check(CLI::ExistingDirectory);
+  cli.inputDirectory(detect_cmd, "--dataset", detect.dataset, "dataset directory (from simulate)")
+      ->required();
   detect_cmd->add_flag("--json", detect.json, "print exactly one JSON object on stdout");
   detect_cmd->add_flag("--quiet", detect.quiet, "no progress lines on stderr");
-  detect_cmd->add_option("--loop-closures", detect.loop_closures_csv,
-                         "write every detected loop closure to this CSV file, with its error "
-                         "against the ground truth");
+  cli.outputFile(detect_cmd, "--loop-closures", detect.loop_closures_csv,
+                 "write every detected loop closure to this CSV file, with its error against "
+                 "the ground truth");
 
   RunOptions run;
   CLI::App* run_cmd = app.add_subcommand(
       "run", "The station over a dataset: frontend and backend threads, outputs and metrics");
-  run_cmd->add_option("--dataset", run.dataset, "dataset directory (from simulate)")
-      ->required()
-      ->check(CLI::ExistingDirectory);
-  run_cmd->add_option("--out", run.out, "output directory (created)")->required();
-  run_cmd
-      ->add_option("--speed", run.speed,
-                   "replay speed: 1 real time, 10 faster, 0 as fast as possible")
-      ->check(CLI::Range(0.0, 1000.0))
+  cli.inputDirectory(run_cmd, "--dataset", run.dataset, "dataset directory (from simulate)")
+      ->required();
+  cli.outputDirectory(run_cmd, "--out", run.out, "output directory (created)")->required();
+  cli.real(run_cmd, "--speed", run.speed,
+           "replay speed: 1 real time, 10 faster, 0 as fast as possible", {0.0, 1000.0})
       ->capture_default_str();
-  run_cmd
-      ->add_option("--ablation", run.ablation,
-                   "full: the whole system; no-ia: without initial alignment; no-rec: without "
-                   "reconciliation (merges)")
-      ->check(CLI::IsMember({"full", "no-ia", "no-rec"}))
-      ->capture_default_str();
+  CLI::Option* ablation =
+      run_cmd
+          ->add_option("--ablation", run.ablation,
+                       "full: the whole system; no-ia: without initial alignment; no-rec: without "
+                       "reconciliation (merges)")
+          ->check(CLI::IsMember({"full", "no-ia", "no-rec"}))
+          ->capture_default_str();
   run_cmd
       ->add_option("--baseline", run.baseline,
                    "instead of the full system (evaluation only, they read ground truth or skip "
                    "steps): gt-align: single-robot graphs placed by the true start poses; "
                    "hm-align: single-robot graphs placed by our initial alignment; oracle-lc: the "
                    "full system fed only the correct inter-robot loop closures")
-      ->check(CLI::IsMember({"gt-align", "hm-align", "oracle-lc"}));
-  run_cmd->add_option("--config", run.config, "station configuration (JSON; README lists the keys)")
-      ->check(CLI::ExistingFile);
+      ->check(CLI::IsMember({"gt-align", "hm-align", "oracle-lc"}))
+      ->excludes(ablation);
+  cli.inputFile(run_cmd, "--config", run.config,
+                "station configuration (JSON; README lists the keys)");
   run_cmd->add_flag("--quiet", run.quiet, "no progress lines on stderr");
 
   TrialsOptions trials;
   std::string seeds = "1-5";
+  constexpr uint64_t kMaxSeeds = 1000;
   CLI::App* trials_cmd = app.add_subcommand(
       "trials", "The paper's evaluation: every method on every seed of a preset, table and plots");
   trials_cmd->add_option("--preset", trials.preset, "simulated preset (see simulate)")->required();
-  trials_cmd->add_option("--seeds", seeds, "seeds A-B (or one seed)")->capture_default_str();
-  trials_cmd->add_option("--out", trials.out, "output directory (created; runs are reused)")
+  trials_cmd
+      ->add_option("--seeds", seeds,
+                   "seeds A-B (or one seed), at most " + std::to_string(kMaxSeeds))
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            const auto range = parseSeedRange(text, kMaxSeeds);
+            return range ? std::string() : range.error();
+          },
+          "A-B", "seeds"))
+      ->capture_default_str();
+  cli.outputDirectory(trials_cmd, "--out", trials.out,
+                      "output directory (created; runs are reused when made from the same inputs)")
       ->required();
   trials_cmd
       ->add_option("--methods", trials.methods,
@@ -215,34 +228,19 @@ int main(int argc, char** argv) {
       ->delimiter(',')
       ->check(CLI::IsMember(trialMethods()))
       ->capture_default_str();
-  trials_cmd->add_option("--speed", trials.speed, "replay speed of every run (0: fastest)")
-      ->check(CLI::Range(0.0, 1000.0))
+  cli.real(trials_cmd, "--speed", trials.speed, "replay speed of every run (0: fastest)",
+           {0.0, 1000.0})
       ->capture_default_str();
-  trials_cmd->add_option("--config", trials.config, "station configuration for every run")
-      ->check(CLI::ExistingFile);
+  cli.inputFile(trials_cmd, "--config", trials.config, "station configuration for every run");
   trials_cmd->add_flag("--redo", trials.redo, "run again where a run's metrics.json exists");
-  trials_cmd
-      ->add_option("--label-confusion", trials.label_confusion,
-                   "simulate the datasets with this label confusion (see simulate)")
-      ->check(CLI::Range(0.0, 1.0));
+  cli.real(trials_cmd, "--label-confusion", trials.label_confusion,
+           "simulate the datasets with this label confusion (see simulate)", {0.0, 1.0});
 
-  CLI11_PARSE(app, argc, argv);
+  if (const int code = cli.parse(argc, argv); code >= 0) return code;
   if (*trials_cmd) {
-    // --seeds: "A-B" or "A".
-    const size_t dash = seeds.find('-');
-    try {
-      size_t used = 0;
-      trials.first_seed = std::stoull(seeds.substr(0, dash), &used);
-      if (used != (dash == std::string::npos ? seeds.size() : dash))
-        throw std::invalid_argument("");
-      trials.last_seed = trials.first_seed;
-      if (dash != std::string::npos) {
-        trials.last_seed = std::stoull(seeds.substr(dash + 1), &used);
-        if (used != seeds.size() - dash - 1) throw std::invalid_argument("");
-      }
-    } catch (const std::exception&) {
-      return fail("--seeds: expected A-B or one seed, got \"" + seeds + "\"");
-    }
+    const auto range = parseSeedRange(seeds, kMaxSeeds);  // checked while parsing
+    trials.first_seed = range.value().first;
+    trials.last_seed = range.value().second;
     return runTrials(trials);
   }
   if (*info_cmd) return runInfo(info);

@@ -98,7 +98,9 @@ int runTrials(const TrialsOptions& o) {
   const size_t total = (o.last_seed - o.first_seed + 1) * o.methods.size();
   size_t done = 0;
   std::vector<TrialRun> runs;
-  for (uint64_t seed = o.first_seed; seed <= o.last_seed; ++seed) {
+  // By count: a last seed of 2^64 - 1 must not wrap the loop around.
+  for (uint64_t k = 0; k <= o.last_seed - o.first_seed; ++k) {
+    const uint64_t seed = o.first_seed + k;
     const fs::path dataset = out / "datasets" / (o.preset + "-" + std::to_string(seed));
     if (fs::exists(dataset / "dataset.json") && o.label_confusion) {
       // A dataset is reused: it must be the one asked for.
