@@ -171,7 +171,7 @@ SimulatedRooms simulatedRooms(const std::string& preset) {
   design.max_door_radius = 0.0;
   for (const auto& [options, score] : {std::make_pair(RoomSegmentationOptions{}, &result.ours),
                                        std::make_pair(design, &result.design)}) {
-    SceneGraph graph = replayRobotGraph(truth, RobotId(0)).value();
+    SceneGraph graph = replayRobotGraph(truth, RobotId(0)).value().graph;
     applyRooms(graph, segmentRooms(graph, options));
     *score = evaluateSceneGraph(graph, truth);
   }

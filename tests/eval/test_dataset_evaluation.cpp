@@ -138,11 +138,11 @@ TEST_F(DatasetEvaluation, CombinesRobotGraphs) {
   std::vector<std::pair<RobotId, SceneGraph>> graphs;
   size_t nodes = 0, vertices = 0;
   for (const RobotId robot : gt.robots) {
-    auto graph = replayRobotGraph(gt, robot);
-    ASSERT_TRUE(graph.ok()) << graph.error();
-    nodes += graph.value().numNodes();
-    vertices += graph.value().mesh().vertices.size();
-    graphs.emplace_back(robot, std::move(graph).value());
+    auto replay = replayRobotGraph(gt, robot);
+    ASSERT_TRUE(replay.ok()) << replay.error();
+    nodes += replay.value().graph.numNodes();
+    vertices += replay.value().graph.mesh().vertices.size();
+    graphs.emplace_back(robot, std::move(replay.value().graph));
   }
   ASSERT_TRUE(graphs[0].second.hasNode(NodeId('O', 0)) && graphs[1].second.hasNode(NodeId('O', 0)));
   const Eigen::Isometry3d shift(Eigen::Translation3d(10, 0, 0));

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "hydra_multi/dsg/graph_delta.h"
+#include "hydra_multi/dsg/io/binary_format.h"
 #include "hydra_multi/dsg/robot_stream.h"
 #include "hydra_multi/frontend/scene_graph_processor.h"
 #include "hydra_multi/sim/dataset.h"
@@ -89,7 +90,7 @@ TEST(SceneGraphProcessor, DeletionsAndLateRobots) {
   EXPECT_EQ(processor.process(step(kA, 4)).outcome, UpdateOutcome::kApplied);
   EXPECT_EQ(processor.robots(), (std::vector<RobotId>{kA, kC}));
   EXPECT_EQ(processor.robot(kA)->pose_graph.size(), 4u);
-  EXPECT_EQ(processor.robot(kA)->next_sequence, 5u);
+  EXPECT_EQ(processor.order(kA)->nextSequence(), 5u);
 }
 
 // A replayed update is recognised and ignored; the same number with other content is refused.
@@ -115,15 +116,15 @@ TEST(SceneGraphProcessor, OutOfOrderUpdates) {
   EXPECT_EQ(shuffled.process(step(kA, 3)).outcome, UpdateOutcome::kBuffered);
   EXPECT_EQ(shuffled.process(step(kA, 2)).outcome, UpdateOutcome::kBuffered);
   EXPECT_EQ(shuffled.process(step(kA, 4)).outcome, UpdateOutcome::kBuffered);
-  EXPECT_EQ(shuffled.heldBack(kA), 3u);
+  EXPECT_EQ(shuffled.order(kA)->heldBack(), 3u);
   const UpdateReport report = shuffled.process(step(kA, 1));
-  EXPECT_EQ(shuffled.heldBack(kA), 0u);
+  EXPECT_EQ(shuffled.order(kA)->heldBack(), 0u);
   EXPECT_EQ(report.outcome, UpdateOutcome::kApplied);
   EXPECT_EQ(report.applied, (std::vector<uint64_t>{1, 2, 3, 4}));
   EXPECT_EQ(shuffled.graph(), in_order.graph());
   EXPECT_EQ(shuffled.robot(kA)->mesh, in_order.robot(kA)->mesh);
   // The counters: two applied on arrival, three buffered and applied later.
-  const SceneGraphProcessor::Counts& counts = shuffled.counts();
+  const UpdateCounts counts = shuffled.counts();
   EXPECT_EQ(counts.applied, 2u);
   EXPECT_EQ(counts.buffered, 3u);
   EXPECT_EQ(counts.applied_from_buffer, 3u);
@@ -140,7 +141,7 @@ TEST(SceneGraphProcessor, GapWaitsForSnapshot) {
   processor.process(step(kA, 2));
   processor.process(step(kA, 3));
   EXPECT_EQ(processor.process(step(kA, 4)).outcome, UpdateOutcome::kWaiting);
-  EXPECT_TRUE(processor.robot(kA)->waiting_for_snapshot);
+  EXPECT_TRUE(processor.order(kA)->waitingForSnapshot());
   EXPECT_EQ(processor.process(step(kA, 5)).outcome, UpdateOutcome::kWaiting);
   EXPECT_EQ(processor.counts().waiting, 2u);
   EXPECT_EQ(processor.counts().applied_from_buffer, 0u);  // 2 and 3 were dropped with the wait
@@ -155,7 +156,7 @@ TEST(SceneGraphProcessor, GapWaitsForSnapshot) {
                           object(9, Eigen::Vector3d::Ones())};
   const UpdateReport report = processor.process(snapshot);
   ASSERT_EQ(report.outcome, UpdateOutcome::kApplied) << report.message;
-  EXPECT_FALSE(processor.robot(kA)->waiting_for_snapshot);
+  EXPECT_FALSE(processor.order(kA)->waitingForSnapshot());
   EXPECT_EQ(processor.graph().numNodes(), 2u);  // replaced, not added
   EXPECT_TRUE(processor.graph().hasNode(NodeId::station('O', kA, 9)));
   EXPECT_TRUE(processor.robot(kA)->mesh.vertices.empty());
@@ -216,8 +217,8 @@ void expectSameRobotState(const SceneGraphProcessor& a, const SceneGraphProcesso
   EXPECT_EQ(a.graph(), b.graph());
   const RobotFrontendState& x = *a.robot(robot);
   const RobotFrontendState& y = *b.robot(robot);
-  EXPECT_EQ(x.next_sequence, y.next_sequence);
-  EXPECT_EQ(x.waiting_for_snapshot, y.waiting_for_snapshot);
+  EXPECT_EQ(a.order(robot)->nextSequence(), b.order(robot)->nextSequence());
+  EXPECT_EQ(a.order(robot)->waitingForSnapshot(), b.order(robot)->waitingForSnapshot());
   EXPECT_EQ(x.mesh, y.mesh);
   EXPECT_EQ(x.pose_graph, y.pose_graph);
   EXPECT_EQ(x.control_points, y.control_points);
@@ -255,9 +256,58 @@ TEST(SceneGraphProcessor, SnapshotOfTheStreamSoFarRecoversALostUpdate) {
       EXPECT_EQ(report.outcome, UpdateOutcome::kApplied) << report.message;
     }
   }
-  EXPECT_EQ(lossy.heldBack(robot), 0u);
+  EXPECT_EQ(lossy.order(robot)->heldBack(), 0u);
   expectSameRobotState(lossy, reference, robot);
   EXPECT_EQ(sent.snapshot().sequence, stream.back().sequence);
+}
+
+// A stream replayed outside the station (dsg/robot_stream.h: dataset-graph, info, the
+// evaluation) applies the same updates as the station and counts them alike, through a lost
+// update, a reordered pair, a duplicate, a snapshot that supersedes buffered deltas and a refused
+// update; what it ends with is the station's graph of that robot, in robot-side ids.
+TEST(SceneGraphProcessor, AStreamReplayAppliesWhatTheStationApplies) {
+  sim::SimulationConfig config = sim::presetConfig("tiny", 3).value();
+  config.mapper.snapshot_every = 5;
+  auto dataset = sim::simulateDataset(config);
+  ASSERT_TRUE(dataset.ok());
+  const std::vector<RobotUpdate>& stream = dataset.value().streams[1];
+  ASSERT_GT(stream.size(), 12u);
+  const RobotId robot = stream.front().robot;
+  std::vector<RobotUpdate> arrivals;
+  for (size_t i = 0; i < stream.size(); ++i) {
+    if (i == 2) continue;  // lost: 3 and 4 wait, the snapshot at 5 supersedes them
+    if (i == 7) {          // 8 before 7, then 7 again
+      arrivals.push_back(stream[8]);
+      arrivals.push_back(stream[7]);
+      arrivals.push_back(stream[7]);
+      ++i;
+      continue;
+    }
+    arrivals.push_back(stream[i]);
+  }
+  RobotUpdate foreign = stream[10];
+  foreign.graph.nodes.front().position.x() = std::nan("");
+  arrivals.insert(arrivals.begin() + 9, foreign);  // malformed: refused by both
+  SceneGraphProcessor station;
+  RobotStreamReplay replay(robot, io::robotUpdateDigest);
+  for (const RobotUpdate& u : arrivals) {
+    const UpdateOutcome at_station = station.process(u).outcome;
+    EXPECT_EQ(replay.add(u).outcome, at_station) << "update " << u.sequence;
+  }
+  const UpdateCounts& a = station.order(robot)->counts();
+  const UpdateCounts& b = replay.order().counts();
+  EXPECT_EQ(describeStream(robot, station.order(robot), 1),
+            describeStream(robot, &replay.order(), 1));
+  EXPECT_EQ(a.applied_from_buffer, b.applied_from_buffer);
+  EXPECT_EQ(a.superseded, 2u);
+  EXPECT_EQ(a.duplicates, 1u);
+  EXPECT_EQ(a.rejected, 1u);
+  std::set<NodeId> at_station, replayed;
+  for (const NodeId id : station.graph().nodesOfRobot(robot))
+    at_station.insert(SceneGraphProcessor::toRobotSide(id)->second);
+  for (const auto& [id, node] : replay.graph().nodes()) replayed.insert(id);
+  EXPECT_EQ(at_station, replayed);
+  EXPECT_EQ(replay.graph().mesh().vertices.size(), station.robot(robot)->mesh.vertices.size());
 }
 
 }  // namespace

@@ -26,8 +26,8 @@ class DatasetReplay : public ::testing::Test {
             std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
-    std::ofstream(dir_ / "dataset.json") << R"({"robots": [
-        {"robot": "a", "stream": "a.dsgb"}, {"robot": "b", "stream": "b.dsgb"}]})";
+    manifest(R"([{"robot": "a", "stream": "a.dsgb", "updates": 4},
+                  {"robot": "b", "stream": "b.dsgb", "updates": 4}])");
     std::mt19937 rng(31);
     for (const char robot : {'a', 'b'}) {
       std::string& stream = streams_[robot];
@@ -42,6 +42,11 @@ class DatasetReplay : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
+  // dataset.json with this "robots" list.
+  void manifest(const std::string& robots) const {
+    std::ofstream(dir_ / "dataset.json")
+        << R"({"format": "hydra-multi-dataset", "robots": )" << robots << "}";
+  }
   void write(char robot, const std::string& bytes) const {
     std::ofstream(dir_ / (std::string(1, robot) + ".dsgb"), std::ios::binary) << bytes;
   }
@@ -132,22 +137,53 @@ TEST_F(DatasetReplay, UpdateWithNaNIsSkipped) {
   EXPECT_NE(why.find("mesh vertex 1: position is not finite"), std::string::npos) << why;
 }
 
+// A stream that yields no update, or fewer than dataset.json says the robot sent, is named in a
+// warning; the replay goes on with what there is.
+TEST_F(DatasetReplay, StreamsShorterThanSentAreNamed) {
+  write('a', "");
+  write('b', streams_['b'].substr(0, starts_['b'][3]));
+  const auto streams = loadDatasetStreams(dir_.string());
+  ASSERT_TRUE(streams.ok()) << streams.error();
+  EXPECT_EQ(arrivals(streams.value()), (std::vector<std::string>{"b0", "b1", "b2"}));
+  EXPECT_EQ(streams.value().warnings,
+            (std::vector<std::string>{
+                "robot a: " + path('a') + " holds no intact update of robot a",
+                "robot b: " + path('b') + " holds 3 intact updates, " +
+                    (dir_ / "dataset.json").string() + " says it sent 4"}));
+}
+
 TEST_F(DatasetReplay, DatasetThatCannotBeReplayedIsAnError) {
   write('a', streams_['a']);
   const auto missing_stream = loadDatasetStreams(dir_.string());
   ASSERT_FALSE(missing_stream.ok());
   EXPECT_NE(missing_stream.error().find(path('b')), std::string::npos) << missing_stream.error();
 
-  std::ofstream(dir_ / "dataset.json") << R"({"robots": [{"robot": "?", "stream": "a.dsgb"}]})";
-  const auto unknown = loadDatasetStreams(dir_.string());
-  ASSERT_FALSE(unknown.ok());
-  EXPECT_NE(unknown.error().find("unknown robot '?'"), std::string::npos) << unknown.error();
-
-  std::ofstream(dir_ / "dataset.json") << R"({"robots": [{"robot": "a"}]})";
-  const auto malformed = loadDatasetStreams(dir_.string());
-  ASSERT_FALSE(malformed.ok());
-  EXPECT_NE(malformed.error().find("missing or malformed field"), std::string::npos)
-      << malformed.error();
+  // dataset.json's team: each error names the file, the entry and what is wrong.
+  const std::string header = (dir_ / "dataset.json").string();
+  const std::vector<std::pair<std::string, std::string>> refused = {
+      {R"([{"robot": "?", "stream": "a.dsgb"}])", ": robots[0]: unknown robot '?'"},
+      {R"([{"robot": "a"}])", ": robots[0]: no \"stream\" path"},
+      {R"([])", ": the \"robots\" list is empty: no robot to replay"},
+      {R"([{"robot": "a", "stream": "a.dsgb"}, {"robot": "a", "stream": "b.dsgb"}])",
+       ": robots[1]: robot a is listed twice"},
+      {R"([{"robot": "a", "stream": "../a.dsgb"}])",
+       ": robots[0]: stream '../a.dsgb' is not a relative path inside the dataset's folder"},
+      {R"([{"robot": "a", "stream": "/etc/passwd"}])",
+       ": robots[0]: stream '/etc/passwd' is not a relative path inside the dataset's folder"},
+      {R"([{"robot": "a", "stream": "a.dsgb", "updates": -4}])",
+       ": robots[0]: \"updates\" is not a count"},
+      {R"({"a": "a.dsgb"})", ": no \"robots\" list"}};
+  for (const auto& [robots, error] : refused) {
+    manifest(robots);
+    const auto streams = loadDatasetStreams(dir_.string());
+    ASSERT_FALSE(streams.ok()) << robots;
+    EXPECT_EQ(streams.error(), header + error) << robots;
+  }
+  std::ofstream(dir_ / "dataset.json") << R"({"robots": [{"robot": "a", "stream": "a.dsgb"}]})";
+  const auto unformatted = loadDatasetStreams(dir_.string());
+  ASSERT_FALSE(unformatted.ok());
+  EXPECT_NE(unformatted.error().find("not a hydra-multi dataset"), std::string::npos)
+      << unformatted.error();
 
   const auto not_a_dataset = loadDatasetStreams((dir_ / "nowhere").string());
   ASSERT_FALSE(not_a_dataset.ok());

@@ -1,5 +1,6 @@
 // `hydra-multi dataset-graph --dataset DIR --robot R --out GRAPH`: one robot's final graph as the
-// robot itself has it (its update stream replayed, in its own odometric frame).
+// station ends with it (its update stream replayed by the station's order rule, in the robot's own
+// odometric frame), and what became of its updates.
 
 #include <iostream>
 
@@ -23,12 +24,15 @@ int runDatasetGraph(const DatasetGraphOptions& o) {
     for (const RobotId r : dataset.value().robots) known += (known.empty() ? "" : ", ") + r.str();
     return fail("no robot '" + o.robot + "' in " + o.dataset + " (robots: " + known + ")");
   }
-  auto graph = replayRobotGraph(dataset.value(), *robot);
-  if (!graph) return fail(graph.error());
-  if (Status s = io::saveSceneGraph(o.out, graph.value()); !s) return fail(s.message());
-  const GraphSummary summary = summarize(graph.value());
+  auto replay = replayRobotGraph(dataset.value(), *robot);
+  if (!replay) return fail(replay.error());
+  for (const std::string& skipped : replay.value().skipped)
+    std::cerr << "skipped " << skipped << std::endl;
+  if (Status s = io::saveSceneGraph(o.out, replay.value().graph); !s) return fail(s.message());
+  const GraphSummary summary = summarize(replay.value().graph);
   std::cout << "robot " << robot->str() << ": " << summary.nodes << " nodes, " << summary.edges
-            << " edges, " << summary.mesh_vertices << " mesh vertices -> " << o.out << "\n";
+            << " edges, " << summary.mesh_vertices << " mesh vertices -> " << o.out << "\n"
+            << replay.value().summary << "\n";
   return 0;
 }
 

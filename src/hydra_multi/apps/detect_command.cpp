@@ -40,6 +40,8 @@ int runDetect(const DetectOptions& o) {
   if (!streams) return fail(streams.error());
   const DatasetStreams& input = streams.value();
   for (const std::string& skipped : input.skipped) std::cerr << "skipped " << skipped << std::endl;
+  for (const std::string& warning : input.warnings)
+    std::cerr << "warning: " << warning << std::endl;
   progress("replaying " + std::to_string(input.updates.size()) + " updates of " +
            std::to_string(input.robots.size()) + " robots");
 
@@ -60,6 +62,13 @@ int runDetect(const DetectOptions& o) {
     }
   }
   detector.flush(processor);  // the last keyframes of every robot, at the end of the replay
+  // A robot whose stream did not all arrive: what the frontend has of it (as `run` says it).
+  for (const RobotId robot : input.robots) {
+    const auto damaged = input.skipped_per_robot.find(robot);
+    const size_t skipped = damaged == input.skipped_per_robot.end() ? 0 : damaged->second;
+    if (!streamIsWhole(processor.order(robot), skipped))
+      std::cerr << describeStream(robot, processor.order(robot), skipped) << std::endl;
+  }
 
   // Evaluation, after the detector has finished: only now is the ground truth read.
   auto truth = readDatasetGroundTruth(o.dataset);
@@ -100,10 +109,14 @@ int runDetect(const DetectOptions& o) {
   const double p50 = percentile(frontend_ms, 0.5), p95 = percentile(frontend_ms, 0.95);
   const double max =
       frontend_ms.empty() ? 0.0 : *std::max_element(frontend_ms.begin(), frontend_ms.end());
+  const UpdateCounts counts = processor.counts();
   if (o.json) {
     const nlohmann::ordered_json j = {
         {"updates", input.updates.size()},
         {"updates_skipped", input.skipped.size()},
+        {"updates_applied", counts.appliedTotal()},
+        {"updates_rejected", counts.rejected},
+        {"updates_behind_gap", counts.behindGap()},
         {"nodes", graph.numNodes()},
         {"inter_lc_detected", inter},
         {"inter_lc_correct", inter_correct},
@@ -115,13 +128,12 @@ int runDetect(const DetectOptions& o) {
     std::cout << j.dump() << "\n";
     return 0;
   }
-  const auto& c = processor.counts();
   std::cout << std::fixed << std::setprecision(2) << "frontend over " << o.dataset << ": "
-            << input.updates.size() << " updates (" << c.applied + c.applied_from_buffer
-            << " applied, " << c.duplicates << " duplicate, " << c.buffered << " buffered, "
-            << c.waiting << " waiting, " << c.rejected << " rejected; " << input.skipped.size()
-            << " damaged records skipped), " << graph.numNodes() << " nodes, "
+            << input.updates.size() << " updates, " << graph.numNodes() << " nodes, "
             << detector.keyframesDescribed() << " keyframes described\n"
+            << "updates: " << describeUpdates(counts, input.skipped.size()) << " ("
+            << counts.duplicates << " duplicates, " << counts.applied_from_buffer
+            << " applied from the reorder buffer)\n"
             << "inter-robot loop closures: " << inter << " detected, " << inter_correct
             << " correct (within 1 m and 10 degrees of the truth)\n";
   for (const auto& [pair, counts] : by_pair) {

@@ -1,12 +1,14 @@
 // `hydra-multi info FILE [--json]`: what a scene-graph file or a robot-update stream holds.
 
 #include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "hydra_multi/apps/commands.h"
 #include "hydra_multi/dsg/graph_summary.h"
 #include "hydra_multi/dsg/io/binary_format.h"
 #include "hydra_multi/dsg/io/graph_file.h"
+#include "hydra_multi/dsg/robot_stream.h"
 
 namespace hydra_multi::apps {
 namespace {
@@ -57,6 +59,7 @@ struct StreamRobot {
   size_t pose_graph_edges = 0, descriptors = 0;
   uint64_t first_sequence = 0, last_sequence = 0;
   int64_t first_time_ns = 0, last_time_ns = 0;
+  std::unique_ptr<RobotStreamReplay> replay;  // the station's order rule over its updates
 };
 
 // The stream's updates per robot and its damaged records; 1 when there are any, so a script that
@@ -69,7 +72,9 @@ int printStream(const std::string& path, const std::vector<RobotUpdate>& updates
     if (r.updates == 0) {
       r.first_sequence = u.sequence;
       r.first_time_ns = u.time_ns;
+      r.replay = std::make_unique<RobotStreamReplay>(u.robot, io::robotUpdateDigest);
     }
+    r.replay->add(u);
     ++r.updates;
     r.snapshots += u.is_snapshot ? 1 : 0;
     r.nodes += u.graph.nodes.size();
@@ -95,7 +100,10 @@ int printStream(const std::string& path, const std::vector<RobotUpdate>& updates
                                 {"edges_sent", r.edges},
                                 {"mesh_vertices_sent", r.mesh_vertices},
                                 {"pose_graph_edges", r.pose_graph_edges},
-                                {"descriptors", r.descriptors}};
+                                {"descriptors", r.descriptors},
+                                {"updates_applied", r.replay->order().counts().appliedTotal()},
+                                {"updates_rejected", r.replay->order().counts().rejected},
+                                {"updates_behind_gap", r.replay->order().counts().behindGap()}};
     }
     std::cout << Json{{"file", path},
                       {"kind", "robot updates"},
@@ -113,6 +121,10 @@ int printStream(const std::string& path, const std::vector<RobotUpdate>& updates
               << r.nodes << " nodes sent, " << r.removed_nodes << " removed, " << r.edges
               << " edges, " << r.mesh_vertices << " mesh vertices, " << r.pose_graph_edges
               << " pose-graph edges, " << r.descriptors << " descriptors\n";
+    // As the station would apply them; the damaged records are this robot's when it is alone.
+    std::cout << "  "
+              << describeStream(robot, &r.replay->order(), robots.size() == 1 ? damaged.size() : 0)
+              << "\n";
   }
   if (damaged.empty()) return 0;
   std::cout << damaged.size() << (damaged.size() == 1 ? " damaged record" : " damaged records")
@@ -121,13 +133,17 @@ int printStream(const std::string& path, const std::vector<RobotUpdate>& updates
   return 1;
 }
 
-// Whether a .dsgb file starts with a robot-update record (rather than a scene graph).
+// Whether a .dsgb file holds robot-update records (rather than a scene graph): the kind of its
+// first intact record, so that a stream whose first record is damaged is still a stream.
 bool isUpdateStream(const std::string& path) {
   auto bytes = io::readFile(path);
   if (!bytes) return false;
   io::RecordReader reader(bytes.value());
-  auto record = reader.next();
-  return record && record.value() && record.value()->kind == io::RecordKind::kRobotUpdate;
+  for (;;) {
+    auto record = reader.next();
+    if (record) return record.value() && record.value()->kind == io::RecordKind::kRobotUpdate;
+    if (!reader.resynchronize()) return false;
+  }
 }
 
 }  // namespace

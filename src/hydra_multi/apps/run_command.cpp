@@ -75,6 +75,8 @@ int runRun(const RunOptions& o) {
   if (!o.quiet) options.log = [](const std::string& line) { std::cerr << line << std::endl; };
   for (const std::string& skipped : streams.value().skipped)
     std::cerr << "station: skipped " << skipped << std::endl;
+  for (const std::string& warning : streams.value().warnings)
+    std::cerr << "station: warning: " << warning << std::endl;
   if (!o.quiet)
     std::cerr << "station: " << streams.value().updates.size() << " updates of "
               << streams.value().robots.size() << " robots, speed "
@@ -107,7 +109,8 @@ int runRun(const RunOptions& o) {
   // Evaluation, after the run: only now is the ground truth read.
   auto truth = readDatasetGroundTruth(o.dataset);
   if (!truth) return fail(truth.error());
-  const SceneGraphScore score = evaluateSceneGraph(result.graph, truth.value());
+  const SceneGraphScore score =
+      evaluateSceneGraph(result.graph, truth.value(), result.global_robot);
   // Inter-robot loop closures: detected, kept by the alignment's averaging and by GNC, and of
   // each how many the ground truth calls correct.
   size_t inter = 0, inter_correct = 0, inliers = 0, correct_inliers = 0;
@@ -169,9 +172,8 @@ int runRun(const RunOptions& o) {
   // Updates: applied (on arrival or from the reorder buffer), refused as invalid, and those behind
   // a missing one (a skipped record) that were never applied: buffered or refused while the robot
   // waited for a snapshot.
-  const size_t applied = result.counts.applied + result.counts.applied_from_buffer;
-  const size_t behind_gap =
-      result.updates.size() - applied - result.counts.rejected - result.counts.duplicates;
+  const size_t applied = result.counts.appliedTotal();
+  const size_t behind_gap = result.counts.behindGap();
   nlohmann::ordered_json metrics = scoreJson(score);
   const nlohmann::ordered_json extra = {
       {"lc_inter_detected", inter},
@@ -186,6 +188,7 @@ int runRun(const RunOptions& o) {
       {"updates_rejected", result.counts.rejected},
       {"updates_behind_gap", behind_gap},
       {"robots", result.robots},
+      {"global_frame_robot", result.global_robot.str()},
       {"robots_aligned", result.aligned.size()},
       {"merges_accepted", result.rounds.empty() ? 0 : result.rounds.back().report.merges_accepted},
       {"merges_undone", result.rounds.empty() ? 0 : result.rounds.back().report.merges_undone},
@@ -212,13 +215,10 @@ int runRun(const RunOptions& o) {
   std::cout << std::fixed << std::setprecision(2) << "station over " << o.dataset << ": "
             << result.updates.size() << " updates, " << result.rounds.size() << " backend rounds, "
             << result.wall_s << " s\n"
-            << "  updates               " << applied << " applied of " << result.updates.size()
-            << ", " << streams.value().skipped.size()
-            << (streams.value().skipped.size() == 1 ? " damaged record" : " damaged records")
-            << " skipped, " << result.counts.rejected << " rejected, " << behind_gap
-            << " behind a missing update\n"
+            << "  updates               "
+            << describeUpdates(result.counts, streams.value().skipped.size()) << "\n"
             << "  robots aligned        " << result.aligned.size() << " of " << result.robots
-            << "\n"
+            << "; global frame: robot " << result.global_robot.str() << "'s\n"
             << "  inter-robot closures  " << inter << " detected (" << inter_correct
             << " correct), " << alignment_inliers << " inliers of the alignment ("
             << alignment_correct << " correct), " << inliers << " kept by GNC (" << correct_inliers

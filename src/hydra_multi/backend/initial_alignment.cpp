@@ -3,9 +3,11 @@
 namespace hydra_multi {
 
 const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
-    const SceneGraph& frontend, const std::vector<PoseGraphEdge>& inter_robot, RobotId root,
-    const std::map<RobotId, Eigen::Isometry3d>& optimized_first_keyframes,
+    const SceneGraph& frontend, const std::vector<PoseGraphEdge>& inter_robot,
+    RobotId preferred_root, const std::map<RobotId, Eigen::Isometry3d>& optimized_first_keyframes,
     const std::vector<double>& support) {
+  if (!root_) root_ = preferred_root;
+  const RobotId root = *root_;
   // Robots in a dense order, the root first.
   std::vector<RobotId> robots = {root};
   for (const RobotId r : frontend.robots()) {
@@ -36,8 +38,22 @@ const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
       if (weigh) edge_support.push_back(support[k]);
     }
   }
-  const MultiRobotAlignment result =
+  MultiRobotAlignment result =
       alignRobotFrames(robots.size(), poses, robot_of, edges, 0, options_.alignment, edge_support);
+  // The preferred root aligned with the current one: the global frame moves to it, and every
+  // frame kept or estimated, and the optimized poses compared below, are re-expressed there.
+  std::map<RobotId, Eigen::Isometry3d> optimized = optimized_first_keyframes;
+  if (preferred_root != root && index.count(preferred_root) &&
+      result.T_world_robot[index[preferred_root]]) {
+    const Eigen::Isometry3d T_new_old = result.T_world_robot[index[preferred_root]]->inverse();
+    for (auto& T : result.T_world_robot)
+      if (T) T = T_new_old * *T;
+    for (auto& [robot, alignment] : aligned_)
+      alignment.T_global_robot = T_new_old * alignment.T_global_robot;
+    for (auto& [robot, T] : optimized) T = T_new_old * T;
+    root_ = preferred_root;
+    ++root_changes_;
+  }
   pairs_ = result.pairs;
   edge_inliers_.clear();
   for (size_t k = 0; k < edges.size(); ++k)
@@ -53,12 +69,13 @@ const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
       // alignment instead would never catch a wrong early one: the optimization starts from it
       // and stays there, GNC rejecting the loop closures that contradict it.)
       ++known->second.rounds_aligned;
-      const auto optimized = optimized_first_keyframes.find(robot);
+      const auto optimized_first = optimized.find(robot);
       const auto first = first_keyframe.find(robot);
-      if (optimized == optimized_first_keyframes.end() || first == first_keyframe.end()) continue;
+      if (optimized_first == optimized.end() || first == first_keyframe.end()) continue;
       const Eigen::Vector3d by_estimate =
           (*result.T_world_robot[i] * poses[first->second.second]).translation();
-      if ((by_estimate - optimized->second.translation()).norm() <= options_.realign_threshold_m)
+      if ((by_estimate - optimized_first->second.translation()).norm() <=
+          options_.realign_threshold_m)
         continue;
       ++realignments_;
     }

@@ -17,6 +17,12 @@
 // than realign_threshold_m (the pose of the robot's first keyframe after optimization against the
 // one the estimate gives). A robot not aligned yet stays in its own frame and takes no part in
 // merging.
+//
+// The global frame is the root's: the robot the caller prefers (the station: robot a, or the
+// lowest robot it has data of). It stays where it was first put; when a lower robot is preferred
+// later (robot a joining late, its first update lost), the frame moves to that robot's once it is
+// aligned with the current root, and every alignment is re-expressed in it; never before, so no
+// robot drops out of the map while the new root is not connected yet.
 
 #include <map>
 #include <optional>
@@ -59,7 +65,8 @@ class InitialAlignment {
 
   /// One round. `frontend`: the graph of every robot's keyframes in station ids, each robot in its
   /// own frame; `inter_robot`: loop closures between keyframes of different robots (T_from_to);
-  /// `root`: the robot whose frame is global. `optimized_first_keyframes`, when given, holds the
+  /// `root`: the robot whose frame should be global (see above). `optimized_first_keyframes`,
+  /// when given, holds the
   /// backend's optimized global pose of each aligned robot's first keyframe, for the
   /// re-alignment rule. `support`, when given, holds one weight per inter-robot loop closure for
   /// the consensus (weigh_support). Returns the robots aligned after this round.
@@ -70,17 +77,23 @@ class InitialAlignment {
 
   const std::map<RobotId, RobotFrameAlignment>& aligned() const { return aligned_; }
   bool isAligned(RobotId robot) const { return aligned_.count(robot) != 0; }
+  /// The robot whose frame is the global frame now (none before the first round).
+  std::optional<RobotId> root() const { return root_; }
   /// Per pair, the last round's averaging: loop closures and inliers.
   const std::vector<RobotPairAlignment>& pairs() const { return pairs_; }
   size_t realignments() const { return realignments_; }
+  /// Times the global frame moved to a preferred root that joined late.
+  size_t rootChanges() const { return root_changes_; }
   /// Per inter-robot loop closure (from, to) of the last round: an inlier of its pair's average.
   const std::map<std::pair<NodeId, NodeId>, bool>& edgeInliers() const { return edge_inliers_; }
 
  private:
   InitialAlignmentOptions options_;
+  std::optional<RobotId> root_;
   std::map<RobotId, RobotFrameAlignment> aligned_;
   std::vector<RobotPairAlignment> pairs_;
   size_t realignments_ = 0;
+  size_t root_changes_ = 0;
   std::map<std::pair<NodeId, NodeId>, bool> edge_inliers_;
 };
 

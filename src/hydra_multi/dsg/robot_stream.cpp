@@ -12,6 +12,24 @@ Status applyToRobotGraph(SceneGraph& graph, const RobotUpdate& update) {
   return Status::Ok();
 }
 
+SequencedUpdate RobotStreamReplay::add(const RobotUpdate& update, const Applied& applied) {
+  const auto refuse = [this](std::string why) {
+    order_.refuse();
+    SequencedUpdate result;
+    result.message = std::move(why);
+    return result;
+  };
+  if (Status valid = validateRobotUpdate(update); !valid) return refuse(valid.message());
+  if (update.robot != robot_)
+    return refuse("update " + std::to_string(update.sequence) + " is from robot " +
+                  update.robot.str() + ", not " + robot_.str());
+  return order_.offer(update, [&](const RobotUpdate& u) -> Status {
+    if (Status s = applyToRobotGraph(graph_, u); !s) return s;
+    if (applied) applied(u, graph_);
+    return Status::Ok();
+  });
+}
+
 Status RobotStreamState::add(const RobotUpdate& update) {
   const std::string at = "update " + std::to_string(update.sequence) + " of robot " +
                          (update.robot.isValid() ? update.robot.str() : "?");

@@ -8,6 +8,8 @@
 #include <unordered_set>
 
 #include "hydra_multi/dsg/graph_delta.h"
+#include "hydra_multi/dsg/io/binary_format.h"
+#include "hydra_multi/dsg/io/dataset_files.h"
 #include "hydra_multi/dsg/io/graph_file.h"
 #include "hydra_multi/dsg/robot_stream.h"
 #include "hydra_multi/eval/trajectory_error.h"
@@ -60,10 +62,11 @@ MergeCheck checkMerge(const DatasetGroundTruth& truth, const MergeSide& a, const
   return check;
 }
 
-SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundTruth& truth) {
+SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundTruth& truth,
+                                   std::optional<RobotId> global_robot) {
   SceneGraphScore score;
   score.object_threshold_m = truth.object_threshold_m;
-  const Eigen::Isometry3d T_world_global = truth.worldFromGlobal();
+  const Eigen::Isometry3d T_world_global = truth.worldFromGlobal(global_robot);
 
   std::vector<Eigen::Vector3d> estimate, reference;
   for (const NodeId id : graph.nodesInLayer(Layer::kAgents)) {
@@ -237,23 +240,24 @@ Result<DatasetDifficulty> measureDatasetDifficulty(const std::string& dir, size_
   std::map<RobotId, Eigen::Isometry3d> T_global_robot;
   std::vector<LabelledPoint> undrifted;  // world frame
   for (const RobotId robot : truth.robots) {
-    auto updates = io::loadRobotUpdates(truth.streams.at(robot));
-    if (!updates) return Error{updates.error()};
-    SceneGraph graph;
+    auto records = io::loadRobotStream(truth.streams.at(robot), robot);
+    if (!records) return Error{records.error()};
+    // The stream as the station replays it (a damaged record leaves its gap).
+    RobotStreamReplay replay(robot, io::robotUpdateDigest);
     std::map<NodeId, int64_t> first_sent;
-    for (const RobotUpdate& update : updates.value()) {
-      if (Status s = applyToRobotGraph(graph, update); !s)
-        return Error{truth.streams.at(robot) + ": update " + std::to_string(update.sequence) +
-                     ": " + s.message()};
-      for (const Node& node : update.graph.nodes) first_sent.emplace(node.id, update.time_ns);
-      for (const KeyframeDescriptor& d : update.descriptors) {
-        const Node* agent = graph.findNode(d.keyframe);
-        const AgentAttributes* a = agent ? agent->find<AgentAttributes>() : nullptr;
-        const Eigen::Isometry3d* T = a ? truth.poseAt(robot, a->timestamp_ns) : nullptr;
-        const int room = T ? trueRoom(truth, free_cells, T->translation()) : -1;
-        keyframes.push_back({robot, rooms_proper.count(room) ? room : -1, d.bow});
-      }
+    for (const RobotUpdate& update : records.value().updates) {
+      replay.add(update, [&](const RobotUpdate& applied, const SceneGraph& graph) {
+        for (const Node& node : applied.graph.nodes) first_sent.emplace(node.id, applied.time_ns);
+        for (const KeyframeDescriptor& d : applied.descriptors) {
+          const Node* agent = graph.findNode(d.keyframe);
+          const AgentAttributes* a = agent ? agent->find<AgentAttributes>() : nullptr;
+          const Eigen::Isometry3d* T = a ? truth.poseAt(robot, a->timestamp_ns) : nullptr;
+          const int room = T ? trueRoom(truth, free_cells, T->translation()) : -1;
+          keyframes.push_back({robot, rooms_proper.count(room) ? room : -1, d.bow});
+        }
+      });
     }
+    SceneGraph graph = std::move(replay.graph());
     // The robot's keyframes by time: true and odometric poses.
     std::vector<std::pair<int64_t, Eigen::Isometry3d>> corrections;  // T_world_odom at t
     for (const NodeId id : graph.nodesInLayer(Layer::kAgents)) {

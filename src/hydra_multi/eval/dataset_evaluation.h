@@ -10,7 +10,8 @@
 // The graph is in the global frame, which is robot 0's odometric frame. Objects, places and rooms
 // are scored after the SE(3) fit of the graph's keyframes to their true poses (the ATE's
 // alignment), as the paper registers its ground truth to the first robot's frame by ICP of the
-// meshes; without 3 matched keyframes, robot 0's true start pose places the graph instead.
+// meshes; without 3 matched keyframes, the true start pose of the robot whose frame the graph is
+// in (robot 0's unless told) places the graph instead.
 
 #include <optional>
 #include <string>
@@ -52,7 +53,10 @@ struct SceneGraphScore {
   bool aligned_by_trajectory = false;  ///< false: placed by robot 0's true start pose
 };
 
-SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundTruth& truth);
+/// `global_robot`: the robot whose frame the graph is in (StationResult::global_robot), used only
+/// without 3 matched keyframes; by default the team's first.
+SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundTruth& truth,
+                                   std::optional<RobotId> global_robot = std::nullopt);
 
 /// Every robot's graph in one graph in the global frame, robot r moved by T_global_r (node ids
 /// remapped to station ids naming their robot; mesh vertices appended).

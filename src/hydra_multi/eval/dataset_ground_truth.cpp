@@ -7,6 +7,8 @@
 #include <sstream>
 
 #include "hydra_multi/dsg/graph_delta.h"
+#include "hydra_multi/dsg/io/binary_format.h"
+#include "hydra_multi/dsg/io/dataset_files.h"
 #include "hydra_multi/dsg/io/graph_file.h"
 #include "hydra_multi/dsg/robot_stream.h"
 #include "hydra_multi/eval/trajectory_error.h"
@@ -101,9 +103,9 @@ const GroundTruthGrid* DatasetGroundTruth::gridFor(double z) const {
   return best;
 }
 
-Eigen::Isometry3d DatasetGroundTruth::worldFromGlobal() const {
-  if (robots.empty()) return Eigen::Isometry3d::Identity();
-  const auto it = start_poses.find(robots.front());
+Eigen::Isometry3d DatasetGroundTruth::worldFromGlobal(std::optional<RobotId> robot) const {
+  if (!robot && robots.empty()) return Eigen::Isometry3d::Identity();
+  const auto it = start_poses.find(robot ? *robot : robots.front());
   return it == start_poses.end() ? Eigen::Isometry3d::Identity() : it->second;
 }
 
@@ -121,11 +123,11 @@ Result<DatasetGroundTruth> readDatasetGroundTruth(const std::string& dir) {
     if (h.value("format", "") != "hydra-multi-dataset")
       return Error{header_path + ": not a hydra-multi dataset (format field)"};
     gt.object_threshold_m = h.at("object_threshold_m").get<double>();
-    for (const json& r : h.at("robots")) {
-      auto robot = robotOf(r.at("robot"), header_path);
-      if (!robot) return Error{robot.error()};
-      gt.robots.push_back(robot.value());
-      gt.streams[robot.value()] = (fs::path(dir) / r.at("stream").get<std::string>()).string();
+    auto manifest = io::readDatasetManifest(dir);
+    if (!manifest) return Error{manifest.error()};
+    for (const io::DatasetRobot& r : manifest.value().robots) {
+      gt.robots.push_back(r.robot);
+      gt.streams[r.robot] = r.stream;
     }
     const fs::path g = fs::path(dir) / "gt";
     where = (g / "start_poses.json").string();
@@ -184,18 +186,17 @@ Result<DatasetGroundTruth> readDatasetGroundTruth(const std::string& dir) {
   return gt;
 }
 
-Result<SceneGraph> replayRobotGraph(const DatasetGroundTruth& dataset, RobotId robot) {
+Result<RobotReplay> replayRobotGraph(const DatasetGroundTruth& dataset, RobotId robot) {
   const auto it = dataset.streams.find(robot);
   if (it == dataset.streams.end())
     return Error{"robot " + robot.str() + " is not in the dataset " + dataset.dir};
-  auto updates = io::loadRobotUpdates(it->second);
-  if (!updates) return Error{updates.error()};
-  SceneGraph graph;
-  for (const RobotUpdate& update : updates.value()) {
-    if (Status s = applyToRobotGraph(graph, update); !s)
-      return Error{it->second + ": update " + std::to_string(update.sequence) + ": " + s.message()};
-  }
-  return graph;
+  auto records = io::loadRobotStream(it->second, robot);
+  if (!records) return Error{records.error()};
+  RobotStreamReplay replay(robot, io::robotUpdateDigest);
+  for (const RobotUpdate& update : records.value().updates) replay.add(update);
+  RobotReplay result{std::move(replay.graph()), replay.order().counts(), records.value().skipped,
+                     describeStream(robot, &replay.order(), records.value().skipped.size())};
+  return result;
 }
 
 }  // namespace hydra_multi

@@ -3,6 +3,7 @@
 // the dataset evaluation needs. Only evaluation reads this; the station never does.
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,7 @@
 #include "hydra_multi/core/se3.h"
 #include "hydra_multi/dsg/robot_update.h"
 #include "hydra_multi/dsg/scene_graph.h"
+#include "hydra_multi/dsg/update_sequencer.h"
 #include "hydra_multi/eval/scene_metrics.h"
 
 namespace hydra_multi {
@@ -47,14 +49,22 @@ struct DatasetGroundTruth {
   /// The grid whose floor a point at height z above it belongs to (places and agents sit about
   /// 1 m above their floor); nullptr without grids.
   const GroundTruthGrid* gridFor(double z) const;
-  /// T_world_r0: the global frame of a result (robot 0's frame) in the world.
-  Eigen::Isometry3d worldFromGlobal() const;
+  /// T_world_global: the global frame of a result in the world, that of `robot` (by default
+  /// the team's first robot, whose frame the station's map is in unless it had no data of it).
+  Eigen::Isometry3d worldFromGlobal(std::optional<RobotId> robot = std::nullopt) const;
 };
 
 /// Reads DIR/dataset.json and DIR/gt/*; errors name the file and what is wrong.
 Result<DatasetGroundTruth> readDatasetGroundTruth(const std::string& dir);
 
-/// The final robot-side graph of one robot: its update stream replayed (robot frame).
-Result<SceneGraph> replayRobotGraph(const DatasetGroundTruth& dataset, RobotId robot);
+/// One robot's final robot-side graph (its frame): its update stream replayed by the station's
+/// order rule (dsg/robot_stream.h), with what became of its updates and records.
+struct RobotReplay {
+  SceneGraph graph;
+  UpdateCounts counts;
+  std::vector<std::string> skipped;  ///< damaged records and updates of other robots, named
+  std::string summary;               ///< describeStream's line
+};
+Result<RobotReplay> replayRobotGraph(const DatasetGroundTruth& dataset, RobotId robot);
 
 }  // namespace hydra_multi

@@ -8,31 +8,11 @@
 namespace hydra_multi {
 namespace {
 
-size_t digestOf(const RobotUpdate& update) {
-  return std::hash<std::string>{}(io::encodeRobotUpdateBinary(update));
-}
-
 std::string where(const RobotUpdate& update) {
   return "robot " + update.robot.str() + " update " + std::to_string(update.sequence);
 }
 
 }  // namespace
-
-const char* updateOutcomeName(UpdateOutcome outcome) {
-  switch (outcome) {
-    case UpdateOutcome::kApplied:
-      return "applied";
-    case UpdateOutcome::kBuffered:
-      return "buffered";
-    case UpdateOutcome::kDuplicate:
-      return "duplicate";
-    case UpdateOutcome::kWaiting:
-      return "waiting for snapshot";
-    case UpdateOutcome::kRejected:
-      return "rejected";
-  }
-  return "rejected";
-}
 
 SceneGraphProcessor::SceneGraphProcessor(ProcessorOptions options, Logger log)
     : options_(options), log_(std::move(log)) {}
@@ -54,9 +34,25 @@ const RobotFrontendState* SceneGraphProcessor::robot(RobotId robot) const {
   return it == robots_.end() ? nullptr : &it->second.state;
 }
 
-size_t SceneGraphProcessor::heldBack(RobotId robot) const {
+const UpdateSequencer* SceneGraphProcessor::order(RobotId robot) const {
   const auto it = robots_.find(robot);
-  return it == robots_.end() ? 0 : it->second.buffer.size();
+  return it == robots_.end() ? nullptr : &it->second.order;
+}
+
+std::vector<RobotId> SceneGraphProcessor::robotsWithData() const {
+  std::vector<RobotId> robots;
+  for (const auto& [robot, slot] : robots_) {
+    if (slot.order.counts().appliedTotal() > 0) robots.push_back(robot);
+  }
+  return robots;
+}
+
+UpdateCounts SceneGraphProcessor::counts() const {
+  UpdateCounts counts;
+  for (const auto& [robot, slot] : robots_) counts += slot.order.counts();
+  counts.offered += refused_without_robot_;
+  counts.rejected += refused_without_robot_;
+  return counts;
 }
 
 std::vector<RobotId> SceneGraphProcessor::robots() const {
@@ -72,24 +68,7 @@ std::optional<RobotId> SceneGraphProcessor::frameOf(NodeId station) const {
   return state ? std::optional<RobotId>(state->frame) : std::nullopt;
 }
 
-UpdateReport SceneGraphProcessor::finish(UpdateReport report) {
-  switch (report.outcome) {
-    case UpdateOutcome::kApplied:
-      ++counts_.applied;
-      break;
-    case UpdateOutcome::kBuffered:
-      ++counts_.buffered;
-      break;
-    case UpdateOutcome::kDuplicate:
-      ++counts_.duplicates;
-      break;
-    case UpdateOutcome::kWaiting:
-      ++counts_.waiting;
-      break;
-    case UpdateOutcome::kRejected:
-      ++counts_.rejected;
-      break;
-  }
+UpdateReport SceneGraphProcessor::finish(UpdateReport report) const {
   if (report.outcome != UpdateOutcome::kApplied && log_) {
     log_("robot " + report.robot.str() + " update " + std::to_string(report.sequence) + ": " +
          updateOutcomeName(report.outcome) + ": " + report.message);
@@ -103,68 +82,36 @@ UpdateReport SceneGraphProcessor::process(const RobotUpdate& update) {
   report.sequence = update.sequence;
   if (Status valid = validateRobotUpdate(update); !valid) {
     report.message = valid.message();
+    if (update.robot.isValid())
+      slot(update.robot).order.refuse();
+    else
+      ++refused_without_robot_;
     return finish(report);
   }
-  RobotSlot& slot = robots_[update.robot];  // a robot joins with its first update
-  if (slot.state.updates_applied == 0 && slot.digests.empty()) slot.state.frame = update.robot;
-  RobotFrontendState& state = slot.state;
-
-  if (update.sequence < state.next_sequence) {
-    const auto seen = slot.digests.find(update.sequence);
-    if (seen != slot.digests.end() && seen->second != digestOf(update)) {
-      report.message =
-          "differs from the update applied with this sequence number (corrupt "
-          "or conflicting replay)";
-    } else {
-      report.outcome = UpdateOutcome::kDuplicate;
-      report.message = "sequence " + std::to_string(update.sequence) + " was already applied";
-    }
-    return finish(report);
-  }
-  const bool snapshot = update.is_snapshot;
-  if (state.waiting_for_snapshot && !snapshot) {
-    report.outcome = UpdateOutcome::kWaiting;
-    report.message = "the robot has a gap before it; only a snapshot can follow";
-    return finish(report);
-  }
-  if (!snapshot && update.sequence > state.next_sequence) {
-    if (slot.buffer.size() >= options_.reorder_buffer) {
-      state.waiting_for_snapshot = true;
-      slot.buffer.clear();
-      report.outcome = UpdateOutcome::kWaiting;
-      report.message = "sequence " + std::to_string(state.next_sequence) +
-                       " is still missing after " + std::to_string(options_.reorder_buffer) +
-                       " later updates; waiting for a snapshot";
-      return finish(report);
-    }
-    slot.buffer[update.sequence] = update;
-    report.outcome = UpdateOutcome::kBuffered;
-    report.message = "ahead of the missing sequence " + std::to_string(state.next_sequence);
-    return finish(report);
-  }
-  // In order (or a snapshot): apply, then whatever the buffer holds next.
-  if (Status status = apply(slot, update, report); !status) {
-    report.message = status.message();
-    state.waiting_for_snapshot = true;
-    slot.buffer.clear();
-    report.message += "; the robot now waits for a snapshot";
-    return finish(report);
-  }
-  report.outcome = UpdateOutcome::kApplied;
-  while (!slot.buffer.empty() && slot.buffer.begin()->first <= state.next_sequence) {
-    const RobotUpdate next = std::move(slot.buffer.begin()->second);
-    slot.buffer.erase(slot.buffer.begin());
-    if (next.sequence < state.next_sequence) continue;  // overtaken by a snapshot
-    if (Status status = apply(slot, next, report); !status) {
-      state.waiting_for_snapshot = true;
-      slot.buffer.clear();
-      if (log_) log_(where(next) + ": rejected: " + status.message() + "; waiting for a snapshot");
-      ++counts_.rejected;
-      break;
-    }
-    ++counts_.applied_from_buffer;
+  RobotSlot& robot = slot(update.robot);  // a robot joins with its first update
+  const SequencedUpdate sequenced =
+      robot.order.offer(update, [&](const RobotUpdate& u) { return apply(robot, u, report); });
+  report.outcome = sequenced.outcome;
+  report.message = sequenced.message;
+  report.applied = sequenced.applied;
+  if (log_) {
+    for (const std::string& rejection : sequenced.released_rejections)
+      log_("robot " + update.robot.str() + " buffered update " + rejection +
+           "; the robot now waits for a snapshot");
   }
   return finish(report);
+}
+
+SceneGraphProcessor::RobotSlot& SceneGraphProcessor::slot(RobotId robot) {
+  auto it = robots_.find(robot);
+  if (it == robots_.end()) {
+    it = robots_
+             .emplace(robot, RobotSlot{RobotFrontendState{},
+                                       UpdateSequencer(options_, io::robotUpdateDigest)})
+             .first;
+    it->second.state.frame = robot;
+  }
+  return it->second;
 }
 
 Status SceneGraphProcessor::apply(RobotSlot& slot, const RobotUpdate& update,
@@ -182,6 +129,7 @@ Status SceneGraphProcessor::apply(RobotSlot& slot, const RobotUpdate& update,
   // The graph delta in station ids.
   GraphDelta delta;
   std::set<NodeId> removed, added;
+  std::vector<NodeId> new_keyframes;  // reported only once the update applied
   if (snapshot) {
     for (const NodeId id : graph_.nodesOfRobot(robot)) {
       delta.removed_nodes.push_back(id);
@@ -205,7 +153,7 @@ Status SceneGraphProcessor::apply(RobotSlot& slot, const RobotUpdate& update,
     node.id = mapped.value();
     added.insert(node.id);
     if (node.layer() == Layer::kAgents && !graph_.hasNode(node.id))
-      report.new_keyframes.push_back(node.id);
+      new_keyframes.push_back(node.id);
     delta.nodes.push_back(std::move(node));
   }
   for (const EdgeKey& key : update.graph.removed_edges) {
@@ -300,15 +248,10 @@ Status SceneGraphProcessor::apply(RobotSlot& slot, const RobotUpdate& update,
   // does not re-send are gone).
   for (const NodeId id : removed)
     if (!added.count(id)) state.descriptors.erase(id);
-  state.next_sequence = update.sequence + 1;
-  state.waiting_for_snapshot = false;
   state.last_time_ns = update.time_ns;
   state.provided_layers = update.provided_layers;
-  ++state.updates_applied;
-  slot.digests[update.sequence] = digestOf(update);
-  while (slot.digests.size() > options_.remembered_digests)
-    slot.digests.erase(slot.digests.begin());
-  report.applied.push_back(update.sequence);
+  report.new_keyframes.insert(report.new_keyframes.end(), new_keyframes.begin(),
+                              new_keyframes.end());
   report.nodes_changed += delta.nodes.size();
   report.nodes_removed += delta.removed_nodes.size();
   return Status::Ok();

@@ -8,15 +8,10 @@
 // collide and every station id says which robot and which robot-side id it comes from. Agent
 // nodes must carry the sending robot's own prefix letter.
 //
-// Order and integrity, per robot, by sequence number:
-//   - the expected sequence is applied; a snapshot (is_snapshot) at or after it replaces all the
-//     robot had (and is the way back after a gap);
-//   - a later sequence that is not a snapshot waits in a small reorder buffer until the missing
-//     ones arrive; if the buffer overflows the robot waits for a snapshot (a gap);
-//   - an earlier sequence is a duplicate when its content matches what was applied (ignored), and
-//     an error otherwise;
-//   - a malformed update (bad numbers, foreign ids, references to nodes that do not exist, a mesh
-//     that does not fit) is rejected whole.
+// Order and integrity, per robot, by sequence number: the order rule of dsg/update_sequencer.h
+// (reorder buffer, gaps that wait for a snapshot, duplicates told from conflicting replays), the
+// same rule every replay of a recorded stream applies. A malformed update (bad numbers, foreign
+// ids, references to nodes that do not exist, a mesh that does not fit) is rejected whole.
 // Nothing that is rejected or ignored changes the graph; every such event is logged with the
 // robot and the sequence number.
 //
@@ -33,22 +28,11 @@
 
 #include "hydra_multi/dsg/robot_update.h"
 #include "hydra_multi/dsg/scene_graph.h"
+#include "hydra_multi/dsg/update_sequencer.h"
 
 namespace hydra_multi {
 
-struct ProcessorOptions {
-  size_t reorder_buffer = 16;      ///< updates a robot may send ahead of a missing one
-  size_t remembered_digests = 64;  ///< applied updates remembered to recognise duplicates
-};
-
-enum class UpdateOutcome {
-  kApplied,    ///< applied (with any buffered successors it released)
-  kBuffered,   ///< ahead of a missing sequence: kept until the gap fills
-  kDuplicate,  ///< already applied, same content: ignored
-  kWaiting,    ///< the robot has a gap: waiting for a snapshot, update dropped
-  kRejected,   ///< malformed or conflicting: dropped
-};
-const char* updateOutcomeName(UpdateOutcome outcome);
+using ProcessorOptions = SequencerOptions;
 
 /// What one call of process() did.
 struct UpdateReport {
@@ -63,11 +47,8 @@ struct UpdateReport {
 
 /// A robot's state beside the graph.
 struct RobotFrontendState {
-  uint64_t next_sequence = 0;
-  bool waiting_for_snapshot = false;
   int64_t last_time_ns = 0;
   uint32_t provided_layers = 0;
-  size_t updates_applied = 0;
   Mesh mesh;                                 ///< the robot's mesh, in its own frame and indexing
   std::vector<PoseGraphEdge> pose_graph;     ///< station ids
   std::vector<ControlPoint> control_points;  ///< keyframe in station ids
@@ -87,8 +68,11 @@ class SceneGraphProcessor {
   const SceneGraph& graph() const { return graph_; }
   const RobotFrontendState* robot(RobotId robot) const;
   std::vector<RobotId> robots() const;
-  /// Updates of a robot held in the reorder buffer, ahead of its missing next_sequence.
-  size_t heldBack(RobotId robot) const;
+  /// A robot's place in its stream: the sequence it expects, whether it waits for a snapshot,
+  /// the updates held back, and what became of its updates (nullptr for a robot never heard of).
+  const UpdateSequencer* order(RobotId robot) const;
+  /// The robots with at least one update applied.
+  std::vector<RobotId> robotsWithData() const;
 
   /// The station id of a robot's node id, and back.
   static std::optional<NodeId> toStation(RobotId robot, NodeId robot_side);
@@ -97,29 +81,26 @@ class SceneGraphProcessor {
   /// The frame a node is in (its robot's, until the backend has aligned that robot).
   std::optional<RobotId> frameOf(NodeId station) const;
 
-  /// Counters over every call: the outcome of each arrival, and the buffered updates applied
-  /// later, once the one they waited for came (applied + applied_from_buffer were applied).
-  struct Counts {
-    size_t applied = 0, buffered = 0, duplicates = 0, waiting = 0, rejected = 0;
-    size_t applied_from_buffer = 0;
-  };
-  const Counts& counts() const { return counts_; }
+  /// What became of every update so far, over all robots; updates refused before a robot could
+  /// be told (an invalid robot id) are counted as rejected.
+  UpdateCounts counts() const;
+  using Counts = UpdateCounts;
 
  private:
   struct RobotSlot {
     RobotFrontendState state;
-    std::map<uint64_t, RobotUpdate> buffer;  // sequence -> update, ahead of next_sequence
-    std::map<uint64_t, size_t> digests;      // sequence -> digest of the applied update
+    UpdateSequencer order;
   };
 
-  UpdateReport finish(UpdateReport report);
+  RobotSlot& slot(RobotId robot);
+  UpdateReport finish(UpdateReport report) const;
   Status apply(RobotSlot& slot, const RobotUpdate& update, UpdateReport& report);
 
   ProcessorOptions options_;
   Logger log_;
   SceneGraph graph_;
   std::map<RobotId, RobotSlot> robots_;
-  Counts counts_;
+  size_t refused_without_robot_ = 0;  // updates whose robot id is not valid
 };
 
 }  // namespace hydra_multi

@@ -22,10 +22,11 @@ struct Snapshot {
   std::vector<PoseGraphEdge> inter_robot;
   std::vector<double> support;  ///< per inter-robot edge, for the alignment's consensus
   size_t after_update = 0;
+  RobotId root;  ///< the robot whose frame should be global (preferredRoot)
 };
 
 Snapshot takeSnapshot(const SceneGraphProcessor& processor, const LoopClosureDetector& detector,
-                      size_t after_update, const StationOptions& options) {
+                      size_t after_update, RobotId root, const StationOptions& options) {
   Snapshot s;
   s.graph = processor.graph();
   for (const RobotId r : processor.robots()) s.robots[r] = *processor.robot(r);
@@ -41,10 +42,15 @@ Snapshot takeSnapshot(const SceneGraphProcessor& processor, const LoopClosureDet
     s.support = interRobotSupport(detector.loopClosures());
   }
   s.after_update = after_update;
+  s.root = root;
   return s;
 }
 
-RobotId rootOf(const DatasetStreams& input) {
+// The global frame should be the first robot's of the team (robot a); a robot the station has
+// nothing of cannot hold it, so it is the first robot with an update applied.
+RobotId preferredRoot(const SceneGraphProcessor& processor, const DatasetStreams& input) {
+  const std::vector<RobotId> with_data = processor.robotsWithData();
+  if (!with_data.empty()) return with_data.front();
   return input.robots.empty() ? RobotId(0)
                               : *std::min_element(input.robots.begin(), input.robots.end());
 }
@@ -73,7 +79,10 @@ StationResult runStation(const DatasetStreams& input, const StationOptions& opti
   const Clock::time_point start = Clock::now();
   StationResult result;
   result.robots = input.robots.size();
-  const RobotId root = rootOf(input);
+  const RobotId team_first = input.robots.empty()
+                                 ? RobotId(0)
+                                 : *std::min_element(input.robots.begin(), input.robots.end());
+  std::optional<RobotId> global;  // the robot whose frame the backend's graph is in
   SceneGraphProcessor processor(options.processor, options.log);
   LoopClosureDetector detector(options.detector);
   Backend backend(options.backend);
@@ -92,8 +101,17 @@ StationResult runStation(const DatasetStreams& input, const StationOptions& opti
     RoundTiming timing;
     timing.round = result.rounds.size();
     timing.after_update = s.after_update;
-    timing.report = backend.round(s.graph, robots, s.inter_robot, root, s.support);
+    timing.report = backend.round(s.graph, robots, s.inter_robot, s.root, s.support);
     result.rounds.push_back(timing);
+    // Say whose frame the map is in when it is not the team's first robot's, and when it moves.
+    const RobotId now = backend.alignment().root().value_or(s.root);
+    if (!global && now != team_first)
+      log("station: the global frame is robot " + now.str() + "'s: the station has no update of " +
+          team_first.str() + " yet");
+    if (global && now != *global)
+      log("station: the global frame moves to robot " + now.str() + "'s (aligned with robot " +
+          global->str() + ")");
+    global = now;
     log("backend round " + std::to_string(timing.round) + " after update " +
         std::to_string(s.after_update) + ": " + std::to_string(timing.report.robots_aligned) + "/" +
         std::to_string(timing.report.robots) + " robots aligned, " +
@@ -152,7 +170,8 @@ StationResult runStation(const DatasetStreams& input, const StationOptions& opti
     }
     if (idle && news > 0) {
       const Clock::time_point t1 = Clock::now();
-      Snapshot s = takeSnapshot(processor, detector, i + 1, options);
+      Snapshot s =
+          takeSnapshot(processor, detector, i + 1, preferredRoot(processor, input), options);
       {
         std::lock_guard<std::mutex> lock(mutex);
         pending = std::move(s);
@@ -167,21 +186,19 @@ StationResult runStation(const DatasetStreams& input, const StationOptions& opti
           " updates, " + std::to_string(detector.loopClosures().size()) + " loop closures");
   }
   detector.flush(processor);
-  // A robot whose stream has a gap (a lost or damaged update): say where its map stopped.
-  for (const RobotId robot : processor.robots()) {
-    const RobotFrontendState& state = *processor.robot(robot);
-    const size_t held = processor.heldBack(robot);
-    if (!state.waiting_for_snapshot && held == 0) continue;
-    log("robot " + robot.str() + ": its map stops before update " +
-        std::to_string(state.next_sequence) + " (" + std::to_string(state.updates_applied) +
-        " applied), " +
-        (state.waiting_for_snapshot ? std::string("waiting for a snapshot")
-                                    : std::to_string(held) + " later updates held behind it"));
+  // A robot whose stream did not all arrive (damaged records, a gap, rejected updates, nothing at
+  // all): what the station has of it and where its map stops.
+  for (const RobotId robot : input.robots) {
+    const auto damaged = input.skipped_per_robot.find(robot);
+    const size_t skipped = damaged == input.skipped_per_robot.end() ? 0 : damaged->second;
+    if (!streamIsWhole(processor.order(robot), skipped))
+      log(describeStream(robot, processor.order(robot), skipped));
   }
   // The last round runs on the final state, after whatever round is running now.
   {
     std::unique_lock<std::mutex> lock(mutex);
-    pending = takeSnapshot(processor, detector, input.updates.size(), options);
+    pending = takeSnapshot(processor, detector, input.updates.size(),
+                           preferredRoot(processor, input), options);
   }
   wake.notify_one();
   {
@@ -198,6 +215,7 @@ StationResult runStation(const DatasetStreams& input, const StationOptions& opti
   result.merges = backend.merges();
   result.aligned = backend.aligned();
   result.counts = processor.counts();
+  result.global_robot = global.value_or(team_first);
   for (const NodeId id : processor.graph().nodesInLayer(Layer::kAgents)) {
     if (const auto* agent = processor.graph().getNode(id).find<AgentAttributes>())
       result.keyframe_stamps[id] = agent->timestamp_ns;

@@ -45,7 +45,7 @@ struct RoundTiming {
 };
 
 struct StationResult {
-  SceneGraph graph;  ///< the final backend graph, global frame (robot `root`'s)
+  SceneGraph graph;  ///< the final backend graph, in global_robot's frame
   std::vector<UpdateTiming> updates;
   std::vector<RoundTiming> rounds;
   std::vector<DetectedLoopClosure> loop_closures;
@@ -54,7 +54,10 @@ struct StationResult {
   std::vector<AcceptedMerge> merges;                              ///< last round's
   std::map<NodeId, int64_t> keyframe_stamps;  ///< every keyframe the frontend holds at the end
   std::map<RobotId, RobotFrameAlignment> aligned;
-  SceneGraphProcessor::Counts counts;
+  UpdateCounts counts;
+  /// The robot whose frame `graph` is in: robot a's, unless the station had nothing of it when
+  /// the map began (then the first robot it had data of, until a is aligned with it).
+  RobotId global_robot;
   size_t robots = 0;
   double wall_s = 0.0;
 };

@@ -2,6 +2,8 @@
 
 #include "hydra_multi/dsg/io/binary_format.h"
 
+#include <functional>
+
 #include "hydra_multi/dsg/io/byte_codec.h"
 
 namespace hydra_multi::io {
@@ -159,6 +161,10 @@ std::string encodeRobotUpdateBinary(const RobotUpdate& update) {
   ByteWriter payload;
   writeRobotUpdate(payload, update);
   return encodeRecord(RecordKind::kRobotUpdate, payload.bytes());
+}
+
+size_t robotUpdateDigest(const RobotUpdate& update) {
+  return std::hash<std::string>{}(encodeRobotUpdateBinary(update));
 }
 
 }  // namespace hydra_multi::io

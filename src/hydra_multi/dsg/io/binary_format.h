@@ -25,6 +25,8 @@ std::string encodeSceneGraphBinary(const SceneGraph& graph);
 Result<SceneGraph> decodeSceneGraphBinary(std::string_view bytes);
 
 std::string encodeRobotUpdateBinary(const RobotUpdate& update);
+/// A digest of an update's whole content (its encoding), to tell a duplicate from a conflict.
+size_t robotUpdateDigest(const RobotUpdate& update);
 /// Decodes a buffer that holds exactly one robot-update record.
 Result<RobotUpdate> decodeRobotUpdateBinary(std::string_view bytes);
 
