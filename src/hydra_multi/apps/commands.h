@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "hydra_multi/core/result.h"
+
 namespace hydra_multi::apps {
 
 struct InfoOptions {
@@ -68,6 +70,8 @@ struct SimulateOptions {
   bool quiet = false;  ///< no progress lines on stderr
 };
 int runSimulate(const SimulateOptions& options);
+/// What `simulate` with these options makes (sim/dataset_recipe.h), without making it.
+Result<std::string> simulateRecipe(const SimulateOptions& options);
 
 struct EvaluateOptions {
   std::string dataset;
@@ -104,6 +108,10 @@ struct RunOptions {
   bool print_summary = true;  ///< the summary on stdout
 };
 int runRun(const RunOptions& options);
+/// A run's OUT/inputs.json: the method, the configuration (canonical) and the recipe of the
+/// dataset (sim/dataset_recipe.h; "null" when it has none) it was made from.
+std::string runInputs(const std::string& dataset_recipe, const std::string& method,
+                      const std::string& config);
 
 struct TrialsOptions {
   std::string preset = "office-3";

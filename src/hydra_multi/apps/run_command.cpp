@@ -23,10 +23,21 @@
 #include "hydra_multi/dsg/io/graph_file.h"
 #include "hydra_multi/eval/dataset_evaluation.h"
 #include "hydra_multi/eval/trajectory_error.h"
+#include "hydra_multi/sim/dataset_recipe.h"
 #include "hydra_multi/station/station.h"
 #include "hydra_multi/station/station_config.h"
 
 namespace hydra_multi::apps {
+
+std::string runInputs(const std::string& dataset_recipe, const std::string& method,
+                      const std::string& config) {
+  nlohmann::ordered_json inputs;
+  inputs["method"] = method;
+  inputs["config"] = nlohmann::ordered_json::parse(config, nullptr, false);
+  inputs["dataset"] = nlohmann::ordered_json::parse(dataset_recipe, nullptr, false);
+  return inputs.dump();
+}
+
 int runRun(const RunOptions& o) {
   namespace fs = std::filesystem;
   auto streams = loadDatasetStreams(o.dataset);
@@ -204,6 +215,12 @@ int runRun(const RunOptions& o) {
   metrics.update(extra);
   std::ofstream(out / "metrics.json") << metrics.dump(2) << "\n";
   std::ofstream(out / "config.json") << config.value() << "\n";
+  // What the run was made from, so that a later `trials` reuses it only for the same inputs.
+  const auto recipe = sim::readDatasetRecipe(o.dataset);
+  std::ofstream(out / "inputs.json")
+      << runInputs(recipe ? recipe.value() : "null", metrics["method"].get<std::string>(),
+                   config.value())
+      << "\n";
 
   const auto show = [](const std::optional<double>& v, int precision) {
     if (!v) return std::string("n/a");

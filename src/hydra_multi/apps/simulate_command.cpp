@@ -10,18 +10,35 @@
 #include "hydra_multi/apps/commands.h"
 #include "hydra_multi/eval/dataset_evaluation.h"
 #include "hydra_multi/sim/dataset.h"
+#include "hydra_multi/sim/dataset_recipe.h"
 
 namespace hydra_multi::apps {
+
+namespace {
+
+Result<sim::SimulationConfig> simulationConfig(const SimulateOptions& o) {
+  auto config = sim::presetConfig(o.preset, o.seed, o.robots, o.scale);
+  if (!config) return Error{config.error()};
+  if (o.label_confusion) config.value().mapper.detection.confusion_probability = *o.label_confusion;
+  config.value().mapper.snapshot_every = o.snapshot_every;
+  return config;
+}
+
+}  // namespace
+
+Result<std::string> simulateRecipe(const SimulateOptions& options) {
+  auto config = simulationConfig(options);
+  if (!config) return Error{config.error()};
+  return sim::datasetRecipe(config.value());
+}
 
 int runSimulate(const SimulateOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   const auto elapsed = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
-  auto config = sim::presetConfig(o.preset, o.seed, o.robots, o.scale);
+  auto config = simulationConfig(o);
   if (!config) return fail(config.error());
-  if (o.label_confusion) config.value().mapper.detection.confusion_probability = *o.label_confusion;
-  config.value().mapper.snapshot_every = o.snapshot_every;
   const auto progress = [&](const std::string& line) {
     if (!o.quiet)
       std::cerr << "[" << std::fixed << std::setprecision(1) << elapsed() << " s] " << line

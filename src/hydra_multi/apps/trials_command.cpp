@@ -21,6 +21,7 @@
 #include "hydra_multi/apps/commands.h"
 #include "hydra_multi/core/result.h"
 #include "hydra_multi/eval/trials_report.h"
+#include "hydra_multi/sim/dataset_recipe.h"
 #include "hydra_multi/station/station_config.h"
 
 namespace hydra_multi::apps {
@@ -54,23 +55,55 @@ Result<TrialRun> readRun(const fs::path& dir, const std::string& method, uint64_
   return run;
 }
 
-// The label confusion a dataset was simulated with (dataset.json's parameters).
-Result<double> simulatedLabelConfusion(const fs::path& dataset_json) {
-  std::ifstream in(dataset_json);
-  const nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
-  const nlohmann::json::json_pointer at("/parameters/mapper/detection/confusion_probability");
-  if (j.is_discarded() || !j.contains(at) || !j.at(at).is_number())
-    return Error{dataset_json.string() + ": no parameters/mapper/detection/confusion_probability"};
-  return j.at(at).get<double>();
+using Json = nlohmann::ordered_json;  // keys in the order they were written, for firstDifference
+
+// Where two JSON documents first differ: "parameters/mapper/detection/confusion_probability 0.1,
+// not 0.0" (the recorded value, then the wanted one).
+std::string firstDifference(const Json& recorded, const Json& wanted) {
+  const Json patch = Json::diff(recorded, wanted);
+  if (patch.empty()) return "";
+  const Json::json_pointer at(patch.front().at("path").get<std::string>());
+  const auto value = [&at](const Json& j) {
+    return j.contains(at) ? j.at(at).dump() : std::string("nothing");
+  };
+  return at.to_string().substr(1) + " " + value(recorded) + ", not " + value(wanted);
 }
 
-// The configuration a run was made with (its config.json, canonical; "{}" for a run without
-// one: made with the defaults, by a version that did not record it).
-std::string runConfig(const fs::path& dir) {
-  std::ifstream in(dir / "config.json");
-  if (!in) return "{}";
-  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-  return j.is_discarded() ? "not valid JSON" : j.dump();
+Json parseOrNull(const std::string& text) {
+  const Json j = Json::parse(text, nullptr, false);
+  return j.is_discarded() ? Json(nullptr) : j;
+}
+
+// A dataset is reused only when dataset.json records the recipe asked for.
+Status checkDatasetReuse(const fs::path& dataset, const std::string& wanted) {
+  auto recorded = sim::readDatasetRecipe(dataset.string());
+  if (!recorded) return Error{recorded.error() + "; use another --out"};
+  if (recorded.value() == wanted) return Status::Ok();
+  return Error{(dataset / "dataset.json").string() + " was simulated with " +
+               firstDifference(parseOrNull(recorded.value()), parseOrNull(wanted)) +
+               "; use another --out"};
+}
+
+// A run is reused only when its inputs.json records the method, configuration and dataset
+// recipe asked for.
+Status checkRunReuse(const fs::path& dir, const std::string& wanted,
+                     const std::string& config_path) {
+  std::ifstream in(dir / "inputs.json");
+  const Json recorded = in ? Json::parse(in, nullptr, false) : Json(nullptr);
+  if (!recorded.is_object())
+    return Error{dir.string() +
+                 " holds a run that does not record what it was made from (no inputs.json: an "
+                 "earlier version); use --redo or another --out"};
+  const Json asked = parseOrNull(wanted);
+  if (recorded.value("config", Json()) != asked.at("config"))
+    return Error{dir.string() + " was run with the configuration " +
+                 recorded.value("config", Json()).dump() + ", not " + asked.at("config").dump() +
+                 (config_path.empty() ? "" : " (" + config_path + ")") +
+                 "; use --redo or another --out"};
+  if (recorded != asked)
+    return Error{dir.string() + " was made from other inputs: " + firstDifference(recorded, asked) +
+                 "; use --redo or another --out"};
+  return Status::Ok();
 }
 
 std::string show(const TrialRun& run, const std::string& key, int decimals) {
@@ -102,23 +135,19 @@ int runTrials(const TrialsOptions& o) {
   for (uint64_t k = 0; k <= o.last_seed - o.first_seed; ++k) {
     const uint64_t seed = o.first_seed + k;
     const fs::path dataset = out / "datasets" / (o.preset + "-" + std::to_string(seed));
-    if (fs::exists(dataset / "dataset.json") && o.label_confusion) {
+    SimulateOptions simulate;
+    simulate.preset = o.preset;
+    simulate.seed = seed;
+    simulate.out = dataset.string();
+    simulate.quiet = true;
+    simulate.label_confusion = o.label_confusion;
+    const auto recipe = simulateRecipe(simulate);
+    if (!recipe) return fail(recipe.error());
+    if (fs::exists(dataset / "dataset.json")) {
       // A dataset is reused: it must be the one asked for.
-      const auto simulated = simulatedLabelConfusion(dataset / "dataset.json");
-      if (!simulated) return fail(simulated.error());
-      if (std::abs(simulated.value() - *o.label_confusion) > 1e-12)
-        return fail((dataset / "dataset.json").string() + " was simulated with label confusion " +
-                    std::to_string(simulated.value()) + ", not " +
-                    std::to_string(*o.label_confusion) + "; use another --out");
-    }
-    if (!fs::exists(dataset / "dataset.json")) {
+      if (Status s = checkDatasetReuse(dataset, recipe.value()); !s) return fail(s.message());
+    } else {
       std::cerr << "trials: simulating " << o.preset << " seed " << seed << std::endl;
-      SimulateOptions simulate;
-      simulate.preset = o.preset;
-      simulate.seed = seed;
-      simulate.out = dataset.string();
-      simulate.quiet = true;
-      simulate.label_confusion = o.label_confusion;
       std::ostringstream discard;
       std::streambuf* old = std::cout.rdbuf(discard.rdbuf());
       const int code = runSimulate(simulate);
@@ -129,11 +158,9 @@ int runTrials(const TrialsOptions& o) {
       const fs::path dir = out / "runs" / method / ("seed-" + std::to_string(seed));
       ++done;
       const bool reuse = !o.redo && fs::exists(dir / "metrics.json");
-      if (reuse && runConfig(dir) != config.value()) {
-        // A run is reused only if it was made with the configuration asked for.
-        return fail(dir.string() + " was run with the configuration " + runConfig(dir) + ", not " +
-                    config.value() + (o.config.empty() ? "" : " (" + o.config + ")") +
-                    "; use --redo or another --out");
+      if (reuse) {
+        const std::string wanted = runInputs(recipe.value(), method, config.value());
+        if (Status s = checkRunReuse(dir, wanted, o.config); !s) return fail(s.message());
       }
       if (!reuse) {
         RunOptions run;
