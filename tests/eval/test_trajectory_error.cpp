@@ -81,6 +81,36 @@ TEST(TrajectoryError, ReadsTumFiles) {
   }
   EXPECT_NE(readTumTrajectory(path).error().find(":1: expected 8 finite numbers"),
             std::string::npos);
+  // More numbers than a TUM line holds is not a TUM file (a KITTI one, say); nor is one without
+  // a pose.
+  {
+    std::ofstream out(path);
+    out << "1.0 1 2 3 0 0 0 1 7\n";
+  }
+  EXPECT_EQ(readTumTrajectory(path).error(),
+            path + ":1: expected 8 numbers (t tx ty tz qx qy qz qw), found more ('7')");
+  {
+    std::ofstream out(path);
+    out << "# only a comment\n";
+  }
+  EXPECT_EQ(readTumTrajectory(path).error(),
+            path + ": no pose (a TUM file has one 't tx ty tz qx qy qz qw' per line)");
+}
+
+// KITTI files: twelve numbers a line, no more; a file without a pose is refused.
+TEST(TrajectoryError, KittiLinesHoldTwelveNumbers) {
+  const std::string path = ::testing::TempDir() + "traj.kitti";
+  {
+    std::ofstream out(path);
+    out << "1 0 0 0 0 1 0 0 0 0 1 0 5\n";
+  }
+  EXPECT_EQ(readKittiPositions(path).error(), path + ":1: expected 12 numbers, found more ('5')");
+  {
+    std::ofstream out(path);
+    out << "\n";
+  }
+  EXPECT_EQ(readKittiPositions(path).error(),
+            path + ": no pose (a KITTI file has one 3x4 pose per line)");
 }
 
 }  // namespace

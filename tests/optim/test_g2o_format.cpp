@@ -13,7 +13,8 @@ TEST(G2o, ParsesEveryTag) {
   const std::string text =
       "VERTEX_SE3:QUAT 0 1 2 3 0 0 0 1\n"
       "VERTEX_SE3:QUAT 1 4 5 6 0 0 0.70710678118654752 0.70710678118654752\n"
-      "EDGE_SE3:QUAT 0 1 1 2 3 0 0 0 1 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21\n"
+      "EDGE_SE3:QUAT 0 1 1 2 3 0 0 0 1 1001 2 3 4 5 6 1007 8 9 10 11 1012 13 14 15 1016 17 18 1019 "
+      "20 1021\n"
       "VERTEX_SE2 5 1 2 0.5\n"
       "EDGE_SE2 5 6 0.1 0.2 0.3 10 1 2 20 3 30\n"
       "VERTEX3 7 1 2 3 0 0 1.5707963267948966\n"
@@ -23,6 +24,11 @@ TEST(G2o, ParsesEveryTag) {
   ASSERT_TRUE(file.ok()) << file.error();
   const PoseGraph& g = file.value().graph;
   EXPECT_EQ(file.value().skipped_lines, 1u);  // FIX
+  EXPECT_EQ(file.value().skipped_tags, (std::map<std::string, size_t>{{"FIX", 1}}));
+  ASSERT_EQ(file.value().warnings.size(), 1u);
+  EXPECT_EQ(file.value().warnings[0],
+            "test.g2o: 1 of 8 lines not read, their tags unknown to this reader (FIX 1), first at "
+            "line 8");
   ASSERT_EQ(g.poses.size(), 4u);
   EXPECT_EQ(g.poses.at(NodeId(0, 0)).translation(), Eigen::Vector3d(1, 2, 3));
   EXPECT_TRUE(
@@ -33,8 +39,8 @@ TEST(G2o, ParsesEveryTag) {
   EXPECT_EQ(g.edges[0].T_from_to.translation(), Eigen::Vector3d(1, 2, 3));
   EXPECT_EQ(g.edges[0].information(0, 5), 6);
   EXPECT_EQ(g.edges[0].information(5, 0), 6);
-  EXPECT_EQ(g.edges[0].information(1, 1), 7);
-  EXPECT_EQ(g.edges[0].information(5, 5), 21);
+  EXPECT_EQ(g.edges[0].information(1, 1), 1007);
+  EXPECT_EQ(g.edges[0].information(5, 5), 1021);
   // SE(2) lifted: x, y, yaw information in place, z/roll/pitch get the largest 2D entry.
   const Matrix6d& info2 = g.edges[1].information;
   EXPECT_EQ(info2(0, 0), 10);
@@ -69,6 +75,39 @@ TEST(G2o, BadLinesNameFileAndLine) {
   EXPECT_FALSE(parseG2o("VERTEX_SE3:QUAT 0 0 0 0 0 0 0 3\n", "q.g2o").ok());  // not unit
   EXPECT_FALSE(parseG2o("EDGE_SE3:QUAT -1 2 0 0 0 0 0 0 1\n", "id.g2o").ok());
   EXPECT_FALSE(readG2o(kData + "/no/such/file.g2o").ok());
+}
+
+// Input that is not what it claims: random bytes, text with no record, an information matrix
+// that is not positive definite (2D and 3D) are refused, naming the file (and line).
+TEST(G2o, RefusesWhatItCannotUse) {
+  std::string bytes = "VERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\n";
+  bytes += std::string("\x17\x00\x8f", 3);
+  auto binary = parseG2o(bytes, "r.g2o");
+  ASSERT_FALSE(binary.ok());
+  EXPECT_EQ(binary.error(), "r.g2o: not a text file (byte 33 is 0): not a g2o or TORO file");
+  auto text = parseG2o("hello world\nfoo 1 2\n", "t.g2o");
+  ASSERT_FALSE(text.ok());
+  EXPECT_EQ(text.error(),
+            "t.g2o: no vertex or edge in 2 lines (line 1 starts with 'hello'): not a g2o or TORO "
+            "file");
+  auto indefinite = parseG2o(
+      "EDGE_SE3:QUAT 0 1 0 0 0 0 0 0 1 -5 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 1\n", "i.g2o");
+  ASSERT_FALSE(indefinite.ok());
+  EXPECT_EQ(indefinite.error(),
+            "i.g2o:1: the information matrix is not positive definite (smallest eigenvalue -5)");
+  auto singular = parseG2o("EDGE_SE2 0 1 1 0 0 1 0 0 1 0 0\n", "s.g2o");
+  ASSERT_FALSE(singular.ok());
+  EXPECT_NE(singular.error().find("s.g2o:1: the information matrix is not positive definite"),
+            std::string::npos)
+      << singular.error();
+  // With --skip-bad-lines such an edge is left out and named; the rest is read.
+  auto lenient = parseG2o(
+      "VERTEX_SE2 0 0 0 0\nEDGE_SE2 0 1 1 0 0 1 0 0 1 0 0\nEDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n",
+      "s.g2o", {true});
+  ASSERT_TRUE(lenient.ok()) << lenient.error();
+  EXPECT_EQ(lenient.value().graph.edges.size(), 1u);
+  ASSERT_EQ(lenient.value().warnings.size(), 1u);
+  EXPECT_EQ(lenient.value().warnings[0].rfind("s.g2o:2: the information matrix", 0), 0u);
 }
 
 // Writing and reading back keeps every pose and edge (to 17 digits).

@@ -34,11 +34,17 @@ int runAte(const AteOptions& o) {
       estimate.push_back(est.value().positions[i]);
       reference.push_back(gt.value().positions[j]);
     }
+    // Poses without a partner are not scored: say how many.
+    if (estimate.size() < est.value().stamps.size())
+      std::cerr << "ate: " << est.value().stamps.size() - estimate.size() << " of "
+                << est.value().stamps.size() << " poses of " << o.estimate
+                << " have no reference pose within " << o.max_time_difference
+                << " s; scored over the other " << estimate.size() << "\n";
   } else {
     return fail("--format must be kitti or tum, not '" + o.format + "'");
   }
   auto ate = absoluteTrajectoryError(estimate, reference);
-  if (!ate) return fail(ate.error());
+  if (!ate) return fail(o.estimate + " against " + o.reference + ": " + ate.error());
   const ErrorStatistics& s = ate.value().statistics;
   if (o.json) {
     const nlohmann::ordered_json j = {{"ate_rmse_m", s.rmse},     {"ate_mean_m", s.mean},

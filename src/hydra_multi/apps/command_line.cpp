@@ -200,6 +200,12 @@ Status CommandLine::checkPaths() const {
   return Status::Ok();
 }
 
+int CommandLine::refuse(const std::string& command, const std::string& what) const {
+  std::cerr << "hydra-multi: error: " << (command.empty() ? "" : command + ": ") << what
+            << "; see hydra-multi " << (command.empty() ? "" : command + " ") << "--help\n";
+  return kUsageError;
+}
+
 int CommandLine::parse(int argc, char** argv) {
   const std::string program = "hydra-multi: error: ";
   const CLI::App& app = app_;
@@ -242,11 +248,7 @@ int CommandLine::parse(int argc, char** argv) {
     error = (extra.size() > 1 && extra[0] == '-' ? "unknown option " : "unexpected argument ") +
             std::string("'") + extra + "'";
   }
-  if (!error.empty()) {
-    std::cerr << program << (command.empty() ? "" : command + ": ") << error << "; see hydra-multi "
-              << (command.empty() ? "" : command + " ") << "--help\n";
-    return kUsageError;
-  }
+  if (!error.empty()) return refuse(command, error);
   if (Status s = checkPaths(); !s) {
     std::cerr << program << s.message() << "\n";
     return 1;

@@ -83,6 +83,9 @@ class CommandLine {
   /// Parses the command line. Returns the exit code when the program should end now (help,
   /// version, any error, printed), or -1 when the chosen command should run.
   int parse(int argc, char** argv);
+  /// A wrong command line found after parsing: printed as parse() prints one; returns
+  /// kUsageError.
+  int refuse(const std::string& command, const std::string& what) const;
 
  private:
   template <typename T>

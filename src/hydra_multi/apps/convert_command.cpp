@@ -18,8 +18,10 @@ int runConvert(const ConvertOptions& options) {
   if (!out_format) {
     return fail(options.output + ": unknown extension (.json, .spark.json, .dsgb or .ply)");
   }
-  auto graph = io::loadSceneGraph(options.input);
+  std::string unread;
+  auto graph = io::loadSceneGraph(options.input, &unread);
   if (!graph) return fail(graph.error());
+  if (!unread.empty()) std::cerr << "hydra-multi: note: " << unread << "\n";
   if (*out_format == io::FileFormat::kPly && graph.value().mesh().empty()) {
     std::cerr << "hydra-multi: warning: " << options.input
               << " has no mesh; the PLY file holds no vertices\n";

@@ -65,8 +65,10 @@ Status writeKeyframesCsv(const std::string& path, const SceneGraphScore& score) 
 int runEvaluate(const EvaluateOptions& o) {
   auto truth = readDatasetGroundTruth(o.dataset);
   if (!truth) return fail(truth.error());
-  auto graph = io::loadSceneGraph(o.result);
+  std::string unread;
+  auto graph = io::loadSceneGraph(o.result, &unread);
   if (!graph) return fail(graph.error());
+  if (!unread.empty()) std::cerr << "hydra-multi: note: " << unread << "\n";
   const SceneGraphScore s = evaluateSceneGraph(graph.value(), truth.value());
   if (!o.objects_csv.empty()) {
     if (Status written = writeObjectsCsv(o.objects_csv, graph.value(), s, truth.value()); !written)

@@ -156,8 +156,10 @@ int runInfo(const InfoOptions& options) {
     if (!updates) return fail(updates.error());
     return printStream(options.path, updates.value(), damaged, options.json);
   }
-  auto graph = io::loadSceneGraph(options.path);
+  std::string unread;
+  auto graph = io::loadSceneGraph(options.path, &unread);
   if (!graph) return fail(graph.error());
+  if (!unread.empty()) std::cerr << "hydra-multi: note: " << unread << "\n";
   printGraph(options.path, summarize(graph.value()), options.json);
   return 0;
 }

@@ -63,10 +63,12 @@ int main(int argc, char** argv) {
   pgo_cmd->add_option("--robust", pgo.robust, "none or gnc (GNC-TLS over loop closures)")
       ->check(CLI::IsMember({"none", "gnc"}))
       ->capture_default_str();
-  cli.real(pgo_cmd, "--outliers", pgo.outliers, "inject outliers: their share of all loop closures",
-           {0.0, 0.99});
-  cli.integer(pgo_cmd, "--seed", pgo.seed, "seed of the outlier injection", uint64_t{0}, kAnySeed)
-      ->capture_default_str();
+  CLI::Option* outliers =
+      cli.real(pgo_cmd, "--outliers", pgo.outliers,
+               "inject outliers: their share of all loop closures", {0.0, 0.99});
+  CLI::Option* pgo_seed = cli.integer(pgo_cmd, "--seed", pgo.seed, "seed of the outlier injection",
+                                      uint64_t{0}, kAnySeed)
+                              ->capture_default_str();
   CLI::Option* inliers_xml = cli.inputFile(pgo_cmd, "--inliers-xml", pgo.inliers_xml,
                                            "gt_info.xml: 1-based inlier edge numbers");
   cli.inputFile(pgo_cmd, "--inlier-edges", pgo.inlier_edges,
@@ -76,14 +78,17 @@ int main(int argc, char** argv) {
               "k: inlier loop closures a robot pair needs to be aligned", size_t{1},
               size_t{1000000})
       ->capture_default_str();
-  pgo_cmd
-      ->add_option("--linear-solver", pgo.linear_solver,
-                   "GNC solves: auto (Cholesky unless one iteration takes > 0.5 s), cholesky, cg")
-      ->check(CLI::IsMember({"auto", "cholesky", "cg"}))
-      ->capture_default_str();
-  cli.integer(pgo_cmd, "--gnc-inner-iterations", pgo.gnc_inner_iterations,
-              "Levenberg-Marquardt iterations per GNC solve (0: up to 100)", 0, 1000)
-      ->capture_default_str();
+  CLI::Option* linear_solver =
+      pgo_cmd
+          ->add_option(
+              "--linear-solver", pgo.linear_solver,
+              "GNC solves: auto (Cholesky unless one iteration takes > 0.5 s), cholesky, cg")
+          ->check(CLI::IsMember({"auto", "cholesky", "cg"}))
+          ->capture_default_str();
+  CLI::Option* gnc_inner =
+      cli.integer(pgo_cmd, "--gnc-inner-iterations", pgo.gnc_inner_iterations,
+                  "Levenberg-Marquardt iterations per GNC solve (0: up to 100)", 0, 1000)
+          ->capture_default_str();
   cli.inputFile(pgo_cmd, "--groundtruth", pgo.groundtruth,
                 "true poses (g2o vertices or TORO edges)");
   cli.outputFile(pgo_cmd, "--output", pgo.output, "write the optimized graph (g2o)");
@@ -103,9 +108,10 @@ int main(int argc, char** argv) {
   ate_cmd->add_option("--format", ate.format, "kitti (pose per line) or tum (associated by time)")
       ->check(CLI::IsMember({"kitti", "tum"}))
       ->capture_default_str();
-  cli.real(ate_cmd, "--max-time-difference", ate.max_time_difference,
-           "TUM: largest stamp difference of an associated pair (s)", {0.0, kMax, true})
-      ->capture_default_str();
+  CLI::Option* max_time_difference =
+      cli.real(ate_cmd, "--max-time-difference", ate.max_time_difference,
+               "TUM: largest stamp difference of an associated pair (s)", {0.0, kMax, true})
+          ->capture_default_str();
   ate_cmd->add_flag("--json", ate.json, "print exactly one JSON object on stdout");
 
   SimulateOptions simulate;
@@ -237,6 +243,15 @@ int main(int argc, char** argv) {
            "simulate the datasets with this label confusion (see simulate)", {0.0, 1.0});
 
   if (const int code = cli.parse(argc, argv); code >= 0) return code;
+  // Options that would do nothing beside the others given: refused rather than ignored.
+  if (*ate_cmd && max_time_difference->count() > 0 && ate.format != "tum")
+    return cli.refuse("ate", "--max-time-difference applies to --format tum only");
+  for (const CLI::Option* gnc_only : {linear_solver, gnc_inner}) {
+    if (*pgo_cmd && gnc_only->count() > 0 && pgo.robust != "gnc")
+      return cli.refuse("pgo", gnc_only->get_name() + " applies to --robust gnc only");
+  }
+  if (*pgo_cmd && pgo_seed->count() > 0 && outliers->count() == 0)
+    return cli.refuse("pgo", "--seed applies to --outliers only (the seed of the injection)");
   if (*trials_cmd) {
     const auto range = parseSeedRange(seeds, kMaxSeeds);  // checked while parsing
     trials.first_seed = range.value().first;

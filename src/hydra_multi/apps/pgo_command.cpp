@@ -205,6 +205,12 @@ int runPgo(const PgoOptions& o) {
   if (!o.inliers_xml.empty()) {
     auto indices = readInlierIndices(o.inliers_xml);
     if (!indices) return fail(indices.error());
+    const size_t last = *indices.value().rbegin();
+    if (*indices.value().begin() == 0 || last > clean.edges.size())
+      return fail(o.inliers_xml + ": inlier edge number " +
+                  std::to_string(*indices.value().begin() == 0 ? 0 : last) +
+                  " is not one of the inputs' edges (1 to " + std::to_string(clean.edges.size()) +
+                  ")");
     truly_inlier = std::vector<bool>(graph.edges.size(), false);
     for (size_t k = 0; k < clean.edges.size(); ++k)
       (*truly_inlier)[k] = indices.value().count(k + 1) > 0;
@@ -215,10 +221,19 @@ int runPgo(const PgoOptions& o) {
     for (const PoseGraphEdge& e : labels.value().graph.edges)
       true_edges.insert(std::minmax(e.from, e.to));
     truly_inlier = std::vector<bool>(graph.edges.size(), false);
+    std::set<std::pair<NodeId, NodeId>> matched;
     for (size_t k = 0; k < clean.edges.size(); ++k) {
-      (*truly_inlier)[k] =
-          true_edges.count(std::minmax(clean.edges[k].from, clean.edges[k].to)) > 0;
+      const auto key = std::minmax(clean.edges[k].from, clean.edges[k].to);
+      (*truly_inlier)[k] = true_edges.count(key) > 0;
+      if ((*truly_inlier)[k]) matched.insert(key);
     }
+    // Labels of edges the inputs do not have label nothing: say so, and refuse a file of no use.
+    if (matched.empty())
+      return fail(o.inlier_edges + ": none of its " + std::to_string(true_edges.size()) +
+                  " edges is an edge of the inputs");
+    if (matched.size() < true_edges.size())
+      std::cerr << "pgo: " << o.inlier_edges << ": " << true_edges.size() - matched.size()
+                << " of its " << true_edges.size() << " edges are no edge of the inputs\n";
   } else if (injected > 0) {
     truly_inlier = std::vector<bool>(graph.edges.size(), false);
     for (size_t k = 0; k < clean.edges.size(); ++k) (*truly_inlier)[k] = true;

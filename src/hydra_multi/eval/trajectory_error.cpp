@@ -65,13 +65,18 @@ Result<std::vector<Eigen::Vector3d>> readKittiPositions(const std::string& path)
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     std::istringstream fields(line);
     double m[12];
+    std::string extra;
     for (double& v : m) {
       if (!(fields >> v) || !std::isfinite(v)) {
         return Error{path + ":" + std::to_string(line_number) + ": expected 12 finite numbers"};
       }
     }
+    if (fields >> extra)
+      return Error{path + ":" + std::to_string(line_number) +
+                   ": expected 12 numbers, found more ('" + extra + "')"};
     positions.emplace_back(m[3], m[7], m[11]);
   }
+  if (positions.empty()) return Error{path + ": no pose (a KITTI file has one 3x4 pose per line)"};
   return positions;
 }
 
@@ -87,18 +92,24 @@ Result<StampedPositions> readTumTrajectory(const std::string& path) {
     if (first == std::string::npos || line[first] == '#') continue;
     std::istringstream fields(line);
     double v[8];
+    std::string extra;
     for (double& x : v) {
       if (!(fields >> x) || !std::isfinite(x)) {
         return Error{path + ":" + std::to_string(line_number) +
                      ": expected 8 finite numbers (t tx ty tz qx qy qz qw)"};
       }
     }
+    if (fields >> extra)
+      return Error{path + ":" + std::to_string(line_number) +
+                   ": expected 8 numbers (t tx ty tz qx qy qz qw), found more ('" + extra + "')"};
     if (!trajectory.stamps.empty() && v[0] <= trajectory.stamps.back()) {
       return Error{path + ":" + std::to_string(line_number) + ": timestamps must increase"};
     }
     trajectory.stamps.push_back(v[0]);
     trajectory.positions.emplace_back(v[1], v[2], v[3]);
   }
+  if (trajectory.stamps.empty())
+    return Error{path + ": no pose (a TUM file has one 't tx ty tz qx qy qz qw' per line)"};
   return trajectory;
 }
 

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "hydra_multi/dsg/io/binary_format.h"
+#include "hydra_multi/dsg/io/json_fields.h"
 #include "hydra_multi/dsg/io/json_format.h"
 #include "hydra_multi/dsg/io/ply.h"
 #include "hydra_multi/dsg/io/spark_json.h"
@@ -60,7 +61,7 @@ Status writeFile(const std::string& path, const std::string& bytes) {
   return Status::Ok();
 }
 
-Result<SceneGraph> loadSceneGraph(const std::string& path) {
+Result<SceneGraph> loadSceneGraph(const std::string& path, std::string* unread) {
   const auto format = formatFromPath(path);
   if (!format) return Error{path + ": unknown extension (.json, .spark.json or .dsgb)"};
   if (*format == FileFormat::kPly) {
@@ -75,8 +76,11 @@ Result<SceneGraph> loadSceneGraph(const std::string& path) {
     auto root = parseJson(bytes.value(), formatName(*format));
     if (!root) return Error{path + ": " + root.error()};
     const bool ours = *format == FileFormat::kJson && isOurSceneGraphJson(root.value());
+    KeyUse use;
     graph =
         ours ? sceneGraphFromJsonValue(root.value()) : sceneGraphFromSparkJsonValue(root.value());
+    const std::string not_read = KeyUse::describe(use.unread(root.value()));
+    if (unread && !not_read.empty()) *unread = path + ": " + not_read;
   }
   if (!graph) return Error{path + ": " + graph.error()};
   return graph;

@@ -22,8 +22,9 @@ const char* formatName(FileFormat format);
 Result<std::string> readFile(const std::string& path);
 Status writeFile(const std::string& path, const std::string& bytes);
 
-/// Loads a graph; errors start with the path.
-Result<SceneGraph> loadSceneGraph(const std::string& path);
+/// Loads a graph; errors start with the path. With `unread`, what a JSON file holds that the
+/// reader did not read is said there ("PATH: 3 keys not read: ..."; KeyUse).
+Result<SceneGraph> loadSceneGraph(const std::string& path, std::string* unread = nullptr);
 /// Saves a graph (for .ply, its mesh); creates no folders.
 Status saveSceneGraph(const std::string& path, const SceneGraph& graph);
 

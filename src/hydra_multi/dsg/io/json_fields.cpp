@@ -13,9 +13,54 @@ namespace {
                     std::string(got.type_name()));
 }
 
+thread_local KeyUse* key_use = nullptr;
+
 }  // namespace
 
+KeyUse::KeyUse() : previous_(key_use) { key_use = this; }
+KeyUse::~KeyUse() { key_use = previous_; }
+
+void KeyUse::walk(const Json& j, const std::string& path,
+                  std::map<std::string, size_t>& out) const {
+  if (j.is_array()) {
+    for (const Json& element : j) walk(element, path + "[]", out);
+    return;
+  }
+  if (!j.is_object()) return;
+  const auto read = read_.find(&j);
+  for (const auto& [key, value] : j.items()) {
+    const std::string at = path.empty() ? key : path + "." + key;
+    if (read == read_.end() || !read->second.count(key))
+      ++out[at];
+    else
+      walk(value, at, out);
+  }
+}
+
+std::map<std::string, size_t> KeyUse::unread(const Json& root) const {
+  std::map<std::string, size_t> out;
+  walk(root, "", out);
+  return out;
+}
+
+std::string KeyUse::describe(const std::map<std::string, size_t>& unread) {
+  if (unread.empty()) return "";
+  std::string text =
+      std::to_string(unread.size()) + (unread.size() == 1 ? " key not read: " : " keys not read: ");
+  size_t shown = 0;
+  for (const auto& [path, count] : unread) {
+    if (shown++ == 8) {
+      text += ", ...";
+      break;
+    }
+    text += (shown > 1 ? ", " : "") + path +
+            (count > 1 ? " (" + std::to_string(count) + " times)" : std::string());
+  }
+  return text;
+}
+
 const Json& member(const Json& j, const char* key) {
+  if (key_use) key_use->note(j, key);
   if (!j.is_object())
     throw DecodeError(std::string("expected an object holding key '") + key + "'");
   const auto it = j.find(key);
@@ -23,7 +68,10 @@ const Json& member(const Json& j, const char* key) {
   return *it;
 }
 
-bool hasMember(const Json& j, const char* key) { return j.is_object() && j.contains(key); }
+bool hasMember(const Json& j, const char* key) {
+  if (key_use) key_use->note(j, key);
+  return j.is_object() && j.contains(key);
+}
 
 double toDouble(const Json& j, const char* key) {
   if (!j.is_number()) expected(key, "a number", j);

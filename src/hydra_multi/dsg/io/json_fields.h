@@ -5,8 +5,11 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "hydra_multi/core/node_id.h"
@@ -19,6 +22,28 @@ using Json = nlohmann::ordered_json;
 /// The member `key` of an object; throws when `j` is not an object or has no such key.
 const Json& member(const Json& j, const char* key);
 bool hasMember(const Json& j, const char* key);
+
+/// While one lives (in this thread), records every key the decoders look up (member, hasMember),
+/// so that a reader can say what of a document it did not read.
+class KeyUse {
+ public:
+  KeyUse();
+  ~KeyUse();
+  KeyUse(const KeyUse&) = delete;
+  KeyUse& operator=(const KeyUse&) = delete;
+  void note(const Json& object, const char* key) { read_[&object].insert(key); }
+  /// The keys of `root` never looked up, each as a path with "[]" for array elements
+  /// ("nodes[].attributes.mesh_connections") and how often it occurs. Keys under an unread key
+  /// are not listed.
+  std::map<std::string, size_t> unread(const Json& root) const;
+  /// "3 keys not read: nodes[].attributes.color (7 times), ..." (empty when all were read).
+  static std::string describe(const std::map<std::string, size_t>& unread);
+
+ private:
+  void walk(const Json& j, const std::string& path, std::map<std::string, size_t>& out) const;
+  std::unordered_map<const Json*, std::set<std::string>> read_;
+  KeyUse* previous_ = nullptr;
+};
 
 double toDouble(const Json& j, const char* key);
 float toFloat(const Json& j, const char* key);

@@ -1,5 +1,8 @@
 #include "hydra_multi/optim/io/g2o_format.h"
 
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <iomanip>
@@ -80,11 +83,24 @@ Eigen::Matrix3d rollPitchYaw(double roll, double pitch, double yaw) {
       .toRotationMatrix();
 }
 
+// An information matrix the solver can use: positive definite (a Cholesky factor exists), so
+// every residual has a weight and the cost is a sum of squares.
+template <int N>
+void checkPositiveDefinite(const Eigen::Matrix<double, N, N>& info) {
+  if (info.llt().info() == Eigen::Success) return;
+  const double smallest =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>>(info).eigenvalues().minCoeff();
+  std::ostringstream s;
+  s << "the information matrix is not positive definite (smallest eigenvalue " << smallest << ")";
+  throw std::runtime_error(s.str());
+}
+
 Matrix6d readUpperTriangle6(LineReader& r) {
   Matrix6d info;
   for (int i = 0; i < 6; ++i) {
     for (int j = i; j < 6; ++j) info(i, j) = info(j, i) = r.number("information");
   }
+  checkPositiveDefinite(info);
   return info;
 }
 
@@ -130,6 +146,7 @@ bool parseRecord(const std::string& tag, LineReader& r, PoseGraph& graph) {
     for (int i = 0; i < 3; ++i) {
       for (int j = i; j < 3; ++j) info2(i, j) = info2(j, i) = r.number("information");
     }
+    checkPositiveDefinite(info2);
     edge.information.setZero();
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) edge.information(map[i], map[j]) = info2(i, j);
@@ -143,40 +160,82 @@ bool parseRecord(const std::string& tag, LineReader& r, PoseGraph& graph) {
   return true;
 }
 
-// Parses one line into the graph; returns false for a tag this reader skips. The graph changes
-// only when the whole line is valid.
-bool parseLine(const std::string& line, PoseGraph& graph) {
+// Parses one line into the graph; returns the tag of a line this reader skips (empty for a line
+// it read or a blank one). The graph changes only when the whole line is valid.
+std::string parseLine(const std::string& line, PoseGraph& graph) {
   LineReader r(line);
   std::string tag;
-  if (!r.word(tag)) return true;  // blank line
+  if (!r.word(tag) || tag[0] == '#') return "";  // blank line or comment
   PoseGraph parsed;
   const bool known = parseRecord(tag, r, parsed);
-  if (!known) return false;
+  if (!known) return tag;
   r.end();
   for (auto& [id, T] : parsed.poses) graph.poses[id] = T;
   graph.edges.insert(graph.edges.end(), parsed.edges.begin(), parsed.edges.end());
-  return true;
+  return "";
+}
+
+// A tag for a message: printable, at most 24 characters.
+std::string printable(const std::string& tag) {
+  std::string out;
+  for (const char c : tag.substr(0, 24))
+    out += std::isprint(static_cast<unsigned char>(c)) ? c : '?';
+  return tag.size() > 24 ? out + "..." : out;
 }
 
 }  // namespace
 
 Result<G2oFile> parseG2o(const std::string& text, const std::string& name,
                          const G2oReadOptions& options) {
+  if (const size_t nul = text.find('\0'); nul != std::string::npos)
+    return Error{name + ": not a text file (byte " + std::to_string(nul) +
+                 " is 0): not a g2o or TORO file"};
   G2oFile file;
   std::istringstream in(text);
   std::string line;
-  size_t line_number = 0;
+  size_t line_number = 0, first_skipped = 0;
+  std::string first_tag;
   while (std::getline(in, line)) {
     ++line_number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     try {
-      if (!parseLine(line, file.graph)) ++file.skipped_lines;
+      const std::string skipped = parseLine(line, file.graph);
+      if (skipped.empty()) continue;
+      ++file.skipped_lines;
+      ++file.skipped_tags[printable(skipped)];
+      if (first_skipped == 0) {
+        first_skipped = line_number;
+        first_tag = printable(skipped);
+      }
     } catch (const std::exception& error) {
       const std::string message = name + ":" + std::to_string(line_number) + ": " + error.what();
       if (!options.skip_bad_lines) return Error{message};
       file.warnings.push_back(message);
       ++file.skipped_lines;
     }
+  }
+  if (file.graph.poses.empty() && file.graph.edges.empty()) {
+    return Error{name + ": no vertex or edge in " + std::to_string(line_number) + " lines" +
+                 (first_skipped > 0 ? " (line " + std::to_string(first_skipped) + " starts with '" +
+                                          first_tag + "')"
+                                    : std::string()) +
+                 ": not a g2o or TORO file"};
+  }
+  if (!file.skipped_tags.empty()) {
+    std::string tags;
+    size_t shown = 0;
+    for (const auto& [tag, count] : file.skipped_tags) {
+      if (shown++ == 5) {
+        tags += ", ...";
+        break;
+      }
+      tags += (tags.empty() ? "" : ", ") + tag + " " + std::to_string(count);
+    }
+    const size_t lines = file.skipped_lines - file.warnings.size();
+    file.warnings.push_back(name + ": " + std::to_string(lines) + " of " +
+                            std::to_string(line_number) +
+                            " lines not read, their tags unknown to " + "this reader (" + tags +
+                            "), first at line " + std::to_string(first_skipped));
   }
   return file;
 }

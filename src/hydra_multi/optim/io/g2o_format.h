@@ -12,8 +12,12 @@
 // Ids are kept as 64-bit keys (GTSAM symbols carry the robot's letter in the top byte). An SE(2)
 // edge's information on x, y, yaw goes to the matching entries of the 6x6 matrix; z, roll and
 // pitch, which 2D data does not measure, get the largest diagonal entry of the 2D information, so
-// lifted graphs stay planar. Other tags (FIX, PARAMS_SE3OFFSET, ...) are skipped and counted.
+// lifted graphs stay planar. Other tags (FIX, PARAMS_SE3OFFSET, ...) are skipped and counted, and
+// said in a warning; '#' starts a comment line. A file that is not text, or holds no vertex and no
+// edge, is refused; so is an edge whose information matrix is not positive definite (the solver
+// could not weigh it; its cost would be no sum of squares), naming file and line.
 
+#include <map>
 #include <string>
 #include <unordered_map>
 
@@ -29,8 +33,10 @@ struct G2oReadOptions {
 
 struct G2oFile {
   PoseGraph graph;
-  size_t skipped_lines = 0;           ///< unknown tags, and bad lines with skip_bad_lines
-  std::vector<std::string> warnings;  ///< one per bad line skipped, naming file and line
+  size_t skipped_lines = 0;                    ///< unknown tags, and bad lines with skip_bad_lines
+  std::map<std::string, size_t> skipped_tags;  ///< unknown tags and their lines
+  /// One per bad line skipped, naming file and line; then one for the lines of unknown tags.
+  std::vector<std::string> warnings;
 };
 
 /// Parses g2o/TORO text; `name` is used in messages ("<name>:<line>: ...").
