@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <iostream>
+#include <map>
 
 #include "hydra_multi/apps/commands.h"
 #include "hydra_multi/dsg/io/graph_file.h"
@@ -18,10 +19,11 @@ int runConvert(const ConvertOptions& options) {
   if (!out_format) {
     return fail(options.output + ": unknown extension (.json, .spark.json, .dsgb or .ply)");
   }
-  std::string unread;
+  std::map<std::string, size_t> unread;
   auto graph = io::loadSceneGraph(options.input, &unread);
   if (!graph) return fail(graph.error());
-  if (!unread.empty()) std::cerr << "hydra-multi: note: " << unread << "\n";
+  if (!unread.empty())
+    std::cerr << "hydra-multi: note: " << io::describeUnread(options.input, unread) << "\n";
   if (*out_format == io::FileFormat::kPly && graph.value().mesh().empty()) {
     std::cerr << "hydra-multi: warning: " << options.input
               << " has no mesh; the PLY file holds no vertices\n";

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "hydra_multi/apps/commands.h"
@@ -65,10 +66,11 @@ Status writeKeyframesCsv(const std::string& path, const SceneGraphScore& score) 
 int runEvaluate(const EvaluateOptions& o) {
   auto truth = readDatasetGroundTruth(o.dataset);
   if (!truth) return fail(truth.error());
-  std::string unread;
+  std::map<std::string, size_t> unread;
   auto graph = io::loadSceneGraph(o.result, &unread);
   if (!graph) return fail(graph.error());
-  if (!unread.empty()) std::cerr << "hydra-multi: note: " << unread << "\n";
+  if (!unread.empty())
+    std::cerr << "hydra-multi: note: " << io::describeUnread(o.result, unread) << "\n";
   const SceneGraphScore s = evaluateSceneGraph(graph.value(), truth.value());
   if (!o.objects_csv.empty()) {
     if (Status written = writeObjectsCsv(o.objects_csv, graph.value(), s, truth.value()); !written)

@@ -21,7 +21,8 @@ Json layersJson(const std::array<size_t, kAllLayers.size()>& counts) {
   return j;
 }
 
-void printGraph(const std::string& path, const GraphSummary& s, bool json) {
+void printGraph(const std::string& path, const GraphSummary& s,
+                const std::map<std::string, size_t>& unread, bool json) {
   if (json) {
     Json robots = Json::object();
     for (const auto& [robot, r] : s.robots) {
@@ -36,7 +37,8 @@ void printGraph(const std::string& path, const GraphSummary& s, bool json) {
                     {"layers", layersJson(s.nodes_per_layer)},
                     {"mesh_vertices", s.mesh_vertices},
                     {"mesh_faces", s.mesh_faces},
-                    {"robots", robots}};
+                    {"robots", robots},
+                    {"keys_not_read", unread}};
     std::cout << j.dump() << "\n";
     return;
   }
@@ -156,11 +158,12 @@ int runInfo(const InfoOptions& options) {
     if (!updates) return fail(updates.error());
     return printStream(options.path, updates.value(), damaged, options.json);
   }
-  std::string unread;
+  std::map<std::string, size_t> unread;
   auto graph = io::loadSceneGraph(options.path, &unread);
   if (!graph) return fail(graph.error());
-  if (!unread.empty()) std::cerr << "hydra-multi: note: " << unread << "\n";
-  printGraph(options.path, summarize(graph.value()), options.json);
+  if (!unread.empty() && !options.json)
+    std::cerr << "hydra-multi: note: " << io::describeUnread(options.path, unread) << "\n";
+  printGraph(options.path, summarize(graph.value()), unread, options.json);
   return 0;
 }
 

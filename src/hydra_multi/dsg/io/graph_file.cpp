@@ -61,7 +61,13 @@ Status writeFile(const std::string& path, const std::string& bytes) {
   return Status::Ok();
 }
 
-Result<SceneGraph> loadSceneGraph(const std::string& path, std::string* unread) {
+std::string describeUnread(const std::string& path,
+                           const std::map<std::string, size_t>& unread_keys) {
+  return unread_keys.empty() ? "" : path + ": " + KeyUse::describe(unread_keys);
+}
+
+Result<SceneGraph> loadSceneGraph(const std::string& path,
+                                  std::map<std::string, size_t>* unread_keys) {
   const auto format = formatFromPath(path);
   if (!format) return Error{path + ": unknown extension (.json, .spark.json or .dsgb)"};
   if (*format == FileFormat::kPly) {
@@ -79,8 +85,7 @@ Result<SceneGraph> loadSceneGraph(const std::string& path, std::string* unread) 
     KeyUse use;
     graph =
         ours ? sceneGraphFromJsonValue(root.value()) : sceneGraphFromSparkJsonValue(root.value());
-    const std::string not_read = KeyUse::describe(use.unread(root.value()));
-    if (unread && !not_read.empty()) *unread = path + ": " + not_read;
+    if (unread_keys) *unread_keys = use.unread(root.value());
   }
   if (!graph) return Error{path + ": " + graph.error()};
   return graph;

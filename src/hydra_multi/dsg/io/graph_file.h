@@ -3,6 +3,7 @@
 //   .spark.json  Spark-DSG JSON             .json  our JSON (or Spark-DSG JSON, told by content)
 //   .dsgb        our binary                 .ply   the mesh only (write only)
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,9 +23,13 @@ const char* formatName(FileFormat format);
 Result<std::string> readFile(const std::string& path);
 Status writeFile(const std::string& path, const std::string& bytes);
 
-/// Loads a graph; errors start with the path. With `unread`, what a JSON file holds that the
-/// reader did not read is said there ("PATH: 3 keys not read: ..."; KeyUse).
-Result<SceneGraph> loadSceneGraph(const std::string& path, std::string* unread = nullptr);
+/// Loads a graph; errors start with the path. With `unread_keys`, the keys of a JSON file the
+/// reader did not read go there, with how often each occurs (KeyUse; describeUnread says them).
+Result<SceneGraph> loadSceneGraph(const std::string& path,
+                                  std::map<std::string, size_t>* unread_keys = nullptr);
+/// "PATH: 3 keys not read: ..." for loadSceneGraph's unread keys; empty when there are none.
+std::string describeUnread(const std::string& path,
+                           const std::map<std::string, size_t>& unread_keys);
 /// Saves a graph (for .ply, its mesh); creates no folders.
 Status saveSceneGraph(const std::string& path, const SceneGraph& graph);
 
