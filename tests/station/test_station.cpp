@@ -34,21 +34,30 @@ DatasetStreams tinyStreams(size_t snapshot_every,
 
 size_t nodesOf(const SceneGraph& graph, RobotId robot) { return graph.nodesOfRobot(robot).size(); }
 
+// The tiny team with robot a's first update lost (snapshots every `snapshot_every` updates), run
+// through the station; its log lines in `log`.
+StationResult withoutAsFirstUpdate(size_t snapshot_every, std::vector<std::string>& log) {
+  const DatasetStreams streams =
+      tinyStreams(snapshot_every, [](const RobotUpdate& u) { return u.sequence == 0; });
+  StationOptions options;
+  options.log = [&log](const std::string& line) { log.push_back(line); };
+  return runStation(streams, options);
+}
+
+bool logged(const std::vector<std::string>& log, const std::string& line) {
+  return std::find(log.begin(), log.end(), line) != log.end();
+}
+
 // Robot a's first update lost and no snapshot after it: the map is robot b's, in b's frame (it
 // was empty: the frame was a's, which nothing placed).
 TEST(Station, RobotAMissingTheMapIsTheOthers) {
-  const DatasetStreams streams =
-      tinyStreams(0, [](const RobotUpdate& u) { return u.sequence == 0; });
   std::vector<std::string> log;
-  StationOptions options;
-  options.log = [&log](const std::string& line) { log.push_back(line); };
-  const StationResult result = runStation(streams, options);
+  const StationResult result = withoutAsFirstUpdate(0, log);
   EXPECT_EQ(result.global_robot, kB);
   EXPECT_GT(nodesOf(result.graph, kB), 100u);
   EXPECT_EQ(nodesOf(result.graph, kA), 0u);
-  EXPECT_NE(std::find(log.begin(), log.end(),
-                      "station: the global frame is robot b's: the station has no update of a yet"),
-            log.end());
+  EXPECT_TRUE(
+      logged(log, "station: the global frame is robot b's: the station has no update of a yet"));
   // The robot that never arrived is named with what became of its updates.
   const auto named = std::find_if(log.begin(), log.end(), [](const std::string& line) {
     return line.rfind("robot a: updates 0 applied of ", 0) == 0;
@@ -60,19 +69,13 @@ TEST(Station, RobotAMissingTheMapIsTheOthers) {
 // Robot a's first update lost, but a sends a snapshot every 4 updates: a joins at its next one, is
 // aligned with b, and the global frame moves to a's; both robots are in the map.
 TEST(Station, RobotAJoiningLateTakesTheGlobalFrameOnceAligned) {
-  const DatasetStreams streams =
-      tinyStreams(4, [](const RobotUpdate& u) { return u.sequence == 0; });
   std::vector<std::string> log;
-  StationOptions options;
-  options.log = [&log](const std::string& line) { log.push_back(line); };
-  const StationResult result = runStation(streams, options);
+  const StationResult result = withoutAsFirstUpdate(4, log);
   EXPECT_EQ(result.global_robot, kA);
   EXPECT_GT(nodesOf(result.graph, kA), 100u);
   EXPECT_GT(nodesOf(result.graph, kB), 100u);
   EXPECT_EQ(result.aligned.size(), 2u);
-  EXPECT_NE(std::find(log.begin(), log.end(),
-                      "station: the global frame moves to robot a's (aligned with robot b)"),
-            log.end());
+  EXPECT_TRUE(logged(log, "station: the global frame moves to robot a's (aligned with robot b)"));
   // In a's frame: a's first keyframe there is where a's own frame has it (near its origin).
   const auto first = std::min_element(result.keyframe_stamps.begin(), result.keyframe_stamps.end(),
                                       [](const auto& x, const auto& y) {
