@@ -7,6 +7,9 @@
 // meshes, inter-robot loop closures) and goes on; the backend runs a round on it (backend.h). The
 // frontend never waits for the backend. After the last update, the detector describes the
 // remaining keyframes and the backend runs one last round on the final state.
+// The global frame should be robot a's; each round asks for the first robot with an update applied
+// (backend/initial_alignment.h moves the frame to it once it is aligned), so a robot the station
+// has nothing of never takes the others with it.
 
 #include <functional>
 #include <string>
