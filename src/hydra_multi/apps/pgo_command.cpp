@@ -2,6 +2,7 @@
 // initial alignment for robots of unknown frames, outlier injection and evaluation against labels
 // and ground truth.
 
+#include <charconv>
 #include <chrono>
 #include <fstream>
 #include <iostream>
@@ -40,7 +41,12 @@ Result<std::set<size_t>> readInlierIndices(const std::string& path) {
   const std::string& s = text.value();
   for (auto it = std::sregex_iterator(s.begin(), s.end(), tag); it != std::sregex_iterator();
        ++it) {
-    indices.insert(std::stoul((*it)[1]));
+    const std::string digits = (*it)[1];
+    size_t index = 0;
+    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), index);
+    if (ec != std::errc() || end != digits.data() + digits.size())
+      return Error{path + ": inlier edge number " + digits + " is too large"};
+    indices.insert(index);
   }
   if (indices.empty()) return Error{path + ": no <inlier_lc_indices> entries"};
   return indices;

@@ -44,13 +44,22 @@ Result<TrialRun> readRun(const fs::path& dir, const std::string& method, uint64_
   std::ifstream timing(dir / "timing.csv");
   std::string line;
   std::getline(timing, line);  // header
+  size_t number = 1;
   while (std::getline(timing, line)) {
+    ++number;
     if (line.rfind("backend,", 0) != 0) continue;
     std::vector<std::string> cells;
     std::stringstream s(line);
     for (std::string cell; std::getline(s, cell, ',');) cells.push_back(cell);
-    if (cells.size() < 10 || cells[5].empty() || cells[9].empty()) continue;
-    run.rounds.push_back({std::stod(cells[9]), std::stod(cells[5]) / 1e3});
+    char* end_poses = nullptr;
+    char* end_ms = nullptr;
+    const double poses = cells.size() >= 10 ? std::strtod(cells[9].c_str(), &end_poses) : 0.0;
+    const double ms = cells.size() >= 10 ? std::strtod(cells[5].c_str(), &end_ms) : 0.0;
+    if (cells.size() < 10 || cells[5].empty() || cells[9].empty() || *end_poses != '\0' ||
+        *end_ms != '\0' || !std::isfinite(poses) || !std::isfinite(ms))
+      return Error{(dir / "timing.csv").string() + ":" + std::to_string(number) +
+                   ": not a backend row of run's timing.csv (use --redo)"};
+    run.rounds.push_back({poses, ms / 1e3});
   }
   return run;
 }

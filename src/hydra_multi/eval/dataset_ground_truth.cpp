@@ -1,8 +1,10 @@
 #include "hydra_multi/eval/dataset_ground_truth.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -66,10 +68,20 @@ Result<DatasetGroundTruth::Trajectory> readTumPoses(const std::string& path) {
     const size_t dot = stamp.find('.');
     if (!fields || dot == std::string::npos)
       return Error{path + ":" + std::to_string(number) + ": expected t x y z qx qy qz qw"};
-    const int64_t seconds = std::stoll(stamp.substr(0, dot));
+    // "seconds.fraction", digits only: exact nanoseconds, as the simulator writes them.
+    int64_t seconds = 0, nanoseconds = 0;
     std::string fraction = stamp.substr(dot + 1);
+    const bool digits = dot > 0 && fraction.size() <= 9 &&
+                        stamp.find_first_not_of("0123456789.") == std::string::npos &&
+                        fraction.find('.') == std::string::npos;
     fraction.resize(9, '0');
-    trajectory.stamps_ns.push_back(seconds * 1000000000 + std::stoll(fraction));
+    const auto whole = std::from_chars(stamp.data(), stamp.data() + dot, seconds);
+    const auto part = std::from_chars(fraction.data(), fraction.data() + 9, nanoseconds);
+    if (!digits || whole.ec != std::errc() || part.ec != std::errc() ||
+        seconds > std::numeric_limits<int64_t>::max() / 1000000000 - 1)
+      return Error{path + ":" + std::to_string(number) + ": stamp '" + stamp +
+                   "' is not seconds.nanoseconds"};
+    trajectory.stamps_ns.push_back(seconds * 1000000000 + nanoseconds);
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.translation() << v[0], v[1], v[2];
     T.linear() = Eigen::Quaterniond(v[6], v[3], v[4], v[5]).normalized().toRotationMatrix();
