@@ -12,6 +12,7 @@
 #include "hydra_multi/dsg/io/json_fields.h"
 #include "hydra_multi/dsg/io/json_format.h"
 #include "hydra_multi/dsg/io/spark_json.h"
+#include "support/mutations.h"
 #include "support/random_graphs.h"
 
 namespace hydra_multi::io {
@@ -34,44 +35,6 @@ void check(const Decoder& decode, const std::string& input, Tally& tally) {
     ++tally.rejected;
     ASSERT_FALSE(status.message().empty());
   }
-}
-
-// Byte-level mutations: flips, overwrites, truncation, insertion, deletion, duplication, noise.
-std::string mutateBytes(std::string s, std::mt19937& rng) {
-  auto pick = [&](size_t n) { return n == 0 ? size_t{0} : static_cast<size_t>(rng() % n); };
-  const int kind = static_cast<int>(rng() % 7);
-  const int repeats = 1 + static_cast<int>(rng() % 4);
-  for (int r = 0; r < repeats; ++r) {
-    switch (kind) {
-      case 0:
-        if (!s.empty()) s[pick(s.size())] ^= static_cast<char>(1u << (rng() % 8));
-        break;
-      case 1:
-        if (!s.empty()) s[pick(s.size())] = static_cast<char>(rng());
-        break;
-      case 2:
-        s.resize(pick(s.size() + 1));
-        break;
-      case 3:
-        s.insert(pick(s.size() + 1), std::string(1 + pick(8), static_cast<char>(rng())));
-        break;
-      case 4:
-        if (!s.empty()) s.erase(pick(s.size()), 1 + pick(16));
-        break;
-      case 5:
-        if (!s.empty()) {
-          const size_t at = pick(s.size());
-          s.insert(pick(s.size() + 1), s.substr(at, 1 + pick(32)));
-        }
-        break;
-      default: {
-        std::string noise(pick(64), '\0');
-        for (char& c : noise) c = static_cast<char>(rng());
-        return noise;
-      }
-    }
-  }
-  return s;
 }
 
 // A record with a valid frame and checksum around any payload, so mutations reach the decoder.
@@ -155,8 +118,8 @@ TEST_F(DecodeFuzz, BinaryBytes) {
   const std::string graph = encodeSceneGraphBinary(graph_);
   const std::string update = encodeRobotUpdateBinary(update_);
   for (int i = 0; i < 2000; ++i) {
-    check(kBinaryGraph, mutateBytes(graph, rng), tally);
-    check(kBinaryUpdate, mutateBytes(update, rng), tally);
+    check(kBinaryGraph, testing::mutateBytes(graph, rng), tally);
+    check(kBinaryUpdate, testing::mutateBytes(update, rng), tally);
   }
   EXPECT_GT(tally.rejected, 3000);
 }
@@ -168,8 +131,8 @@ TEST_F(DecodeFuzz, BinaryPayloads) {
   const std::string graph = payloadOf(encodeSceneGraphBinary(graph_));
   const std::string update = payloadOf(encodeRobotUpdateBinary(update_));
   for (int i = 0; i < 3000; ++i) {
-    check(kBinaryGraph, frame(RecordKind::kSceneGraph, mutateBytes(graph, rng)), tally);
-    check(kBinaryUpdate, frame(RecordKind::kRobotUpdate, mutateBytes(update, rng)), tally);
+    check(kBinaryGraph, frame(RecordKind::kSceneGraph, testing::mutateBytes(graph, rng)), tally);
+    check(kBinaryUpdate, frame(RecordKind::kRobotUpdate, testing::mutateBytes(update, rng)), tally);
   }
   EXPECT_GT(tally.rejected, 1000);
   EXPECT_GT(tally.decoded, 50);
@@ -196,8 +159,8 @@ TEST_F(DecodeFuzz, JsonBytes) {
   const std::string graph = sceneGraphToJson(graph_);
   const std::string spark = sceneGraphToSparkJson(graph_);
   for (int i = 0; i < 1000; ++i) {
-    check(kJsonGraph, mutateBytes(graph, rng), tally);
-    check(kSparkGraph, mutateBytes(spark, rng), tally);
+    check(kJsonGraph, testing::mutateBytes(graph, rng), tally);
+    check(kSparkGraph, testing::mutateBytes(spark, rng), tally);
   }
   EXPECT_GT(tally.rejected, 1000);
 }
