@@ -47,7 +47,7 @@ echo
 echo "Demo done in $(( $(date +%s) - start )) s. Results are in $out/:"
 echo "  office-3/             the simulated dataset: dataset.json, robots/<r>/updates.dsgb, gt/"
 echo "  office-3-run/         the station's output: graph.json, graph.spark.json, mesh.ply,"
-echo "                        metrics.json, config.json, timing.csv, loop_closures.csv"
+echo "                        metrics.json, config.json, inputs.json, timing.csv, loop_closures.csv"
 echo "  trials/               table.md, objects.svg, places.svg, rooms.svg, backend_time.svg,"
 echo "                        trials.json, runs/<method>/seed-1/ (each run's outputs)"
 echo "  apartment.json        our readable JSON (one node, edge or vertex per line)"

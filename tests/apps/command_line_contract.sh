@@ -168,6 +168,11 @@ expect 2 "^hydra-multi: error: unknown command 'frobnicate' \(commands: info, " 
 expect 2 "^hydra-multi: error: run: --ablation excludes --baseline" run --dataset "$DATASET" --out "$TMP/x" --ablation no-rec --baseline oracle-lc
 expect 2 "^hydra-multi: error: pgo: --unknown-frames excludes --init" pgo --input "$G2O" --unknown-frames --init odometry
 expect 2 "^hydra-multi: error: pgo: --inliers-xml excludes --inlier-edges" pgo --input "$G2O" --inliers-xml "$FILE" --inlier-edges "$FILE"
+# Options that would do nothing beside the others given.
+expect 2 "^hydra-multi: error: pgo: --seed applies to --outliers only" pgo --input "$G2O" --seed 3
+expect 2 "^hydra-multi: error: pgo: --linear-solver applies to --robust gnc only" pgo --input "$G2O" --linear-solver cg
+expect 2 "^hydra-multi: error: pgo: --gnc-inner-iterations applies to --robust gnc only" pgo --input "$G2O" --robust none --gnc-inner-iterations 5
+expect 2 "^hydra-multi: error: ate: --max-time-difference applies to --format tum only" ate --est "$FILE" --gt "$FILE" --max-time-difference 0.1
 
 echo "$checks checks, $numeric numeric options, $failures failures"
 [ "$failures" -eq 0 ]

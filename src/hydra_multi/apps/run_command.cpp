@@ -1,8 +1,9 @@
 // `hydra-multi run --dataset DIR --out OUT [--speed X] [--ablation A] [--baseline B]
 // [--config FILE]`: the station over a dataset's streams, online (station/station.h), then the
 // outputs and, read only after the run, the ground truth's verdict: OUT/graph.json,
-// graph.spark.json, mesh.ply, metrics.json, timing.csv, loop_closures.csv (every inter-robot
-// loop closure with the station's verdicts and the truth's).
+// graph.spark.json, mesh.ply, metrics.json, config.json, inputs.json (what the run was made
+// from), timing.csv, loop_closures.csv (every inter-robot loop closure with the station's
+// verdicts and the truth's).
 //
 // Ablations (paper Table II): no-ia without initial alignment, no-rec without reconciliation.
 // Baselines (paper Table I; evaluation only, never the station's normal mode): gt-align places
@@ -264,7 +265,7 @@ int runRun(const RunOptions& o) {
             << backend.max / 1e3 << " s\n"
             << "outputs in " << o.out
             << ": graph.json, graph.spark.json, mesh.ply, metrics.json, config.json, "
-               "timing.csv, loop_closures.csv\n";
+               "inputs.json, timing.csv, loop_closures.csv\n";
   return 0;
 }
 
