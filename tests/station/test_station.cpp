@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <thread>
 
 #include "hydra_multi/sim/dataset.h"
 #include "hydra_multi/station/station.h"
@@ -95,6 +96,35 @@ TEST(Station, NoUpdateAtAll) {
   const StationResult result = runStation(none);
   EXPECT_EQ(result.graph.numNodes(), 0u);
   EXPECT_EQ(result.global_robot, kA);
+}
+
+// Two inputs at once: each robot's updates submitted from its own thread. Every update is
+// applied, the frontend ends with every keyframe of the file replay, and both robots are aligned;
+// after finish() the station takes no more.
+TEST(Station, InputsFromSeveralThreads) {
+  const DatasetStreams streams = tinyStreams(0, [](const RobotUpdate&) { return false; });
+  const StationResult replayed = runStation(streams);
+  std::vector<std::string> log;
+  StationOptions options;
+  options.log = [&log](const std::string& line) { log.push_back(line); };  // one line at a time
+  Station station(options, streams.robots);
+  std::vector<std::thread> inputs;
+  for (const RobotId robot : streams.robots) {
+    inputs.emplace_back([&station, &streams, robot] {
+      for (const RobotUpdate& u : streams.updates)
+        if (u.robot == robot) ASSERT_TRUE(station.submit(u));
+    });
+  }
+  for (std::thread& input : inputs) input.join();
+  const StationResult result = station.finish();
+  EXPECT_FALSE(station.submit(streams.updates.front()));
+  EXPECT_EQ(result.counts.offered, streams.updates.size());
+  EXPECT_EQ(result.counts.appliedTotal(), streams.updates.size());
+  EXPECT_EQ(result.updates.size(), streams.updates.size());
+  EXPECT_EQ(result.keyframe_stamps, replayed.keyframe_stamps);
+  EXPECT_EQ(result.aligned.size(), 2u);
+  EXPECT_EQ(result.global_robot, kA);
+  EXPECT_FALSE(log.empty());
 }
 
 }  // namespace

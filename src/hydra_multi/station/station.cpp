@@ -1,9 +1,12 @@
 #include "hydra_multi/station/station.h"
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
+#include <deque>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <thread>
 
 namespace hydra_multi {
@@ -48,11 +51,9 @@ Snapshot takeSnapshot(const SceneGraphProcessor& processor, const LoopClosureDet
 
 // The global frame should be the first robot's of the team (robot a); a robot the station has
 // nothing of cannot hold it, so it is the first robot with an update applied.
-RobotId preferredRoot(const SceneGraphProcessor& processor, const DatasetStreams& input) {
+RobotId preferredRoot(const SceneGraphProcessor& processor, RobotId team_first) {
   const std::vector<RobotId> with_data = processor.robotsWithData();
-  if (!with_data.empty()) return with_data.front();
-  return input.robots.empty() ? RobotId(0)
-                              : *std::min_element(input.robots.begin(), input.robots.end());
+  return with_data.empty() ? team_first : with_data.front();
 }
 
 }  // namespace
@@ -72,156 +73,269 @@ std::vector<PoseGraphEdge> interRobotEdges(const std::vector<DetectedLoopClosure
   return edges;
 }
 
-StationResult runStation(const DatasetStreams& input, const StationOptions& options) {
-  const auto log = [&](const std::string& line) {
-    if (options.log) options.log(line);
-  };
-  const Clock::time_point start = Clock::now();
-  StationResult result;
-  result.robots = input.robots.size();
-  const RobotId team_first = input.robots.empty()
-                                 ? RobotId(0)
-                                 : *std::min_element(input.robots.begin(), input.robots.end());
-  std::optional<RobotId> global;  // the robot whose frame the backend's graph is in
-  SceneGraphProcessor processor(options.processor, options.log);
-  LoopClosureDetector detector(options.detector);
-  Backend backend(options.backend);
+struct Station::Impl {
+  Impl(StationOptions station_options, std::vector<RobotId> expected)
+      : options(std::move(station_options)),
+        team(std::move(expected)),
+        team_first(team.empty() ? RobotId(0) : *std::min_element(team.begin(), team.end())),
+        processor(options.processor, [this](const std::string& line) { log(line); }),
+        detector(options.detector),
+        backend(options.backend) {}
 
-  // The hand-off between the two threads.
-  std::mutex mutex;
-  std::condition_variable wake;
-  std::optional<Snapshot> pending;
-  bool backend_busy = false, done = false;
-  const auto runRound = [&](const Snapshot& s) {
-    std::vector<BackendRobot> robots;
-    for (const auto& [robot, state] : s.robots) {
-      robots.push_back({robot, &state.pose_graph, &state.control_points, &state.control_point_edges,
-                        &state.mesh});
-    }
-    RoundTiming timing;
-    timing.round = result.rounds.size();
-    timing.after_update = s.after_update;
-    timing.report = backend.round(s.graph, robots, s.inter_robot, s.root, s.support);
-    result.rounds.push_back(timing);
-    // Say whose frame the map is in when it is not the team's first robot's, and when it moves.
-    const RobotId now = backend.alignment().root().value_or(s.root);
-    if (!global && now != team_first)
-      log("station: the global frame is robot " + now.str() + "'s: the station has no update of " +
-          team_first.str() + " yet");
-    if (global && now != *global)
-      log("station: the global frame moves to robot " + now.str() + "'s (aligned with robot " +
-          global->str() + ")");
-    global = now;
-    log("backend round " + std::to_string(timing.round) + " after update " +
-        std::to_string(s.after_update) + ": " + std::to_string(timing.report.robots_aligned) + "/" +
-        std::to_string(timing.report.robots) + " robots aligned, " +
-        std::to_string(timing.report.inter_robot_inliers) + "/" +
-        std::to_string(timing.report.inter_robot_loop_closures) +
-        " inter-robot loop closures kept, " + std::to_string(timing.report.merges_accepted) + "/" +
-        std::to_string(timing.report.merges_proposed) + " merges, " +
-        (timing.report.label_merges > 0
-             ? std::to_string(timing.report.label_merges) + " by label votes, "
-             : std::string()) +
-        std::to_string(timing.report.nodes) + " nodes, " + std::to_string(timing.report.rooms) +
-        " rooms, " + std::to_string(timing.report.time_s) + " s");
-  };
-  std::thread backend_thread([&] {
-    for (;;) {
-      Snapshot s;
-      {
-        std::unique_lock<std::mutex> lock(mutex);
-        wake.wait(lock, [&] { return pending.has_value() || done; });
-        if (!pending) return;
-        s = std::move(*pending);
-        pending.reset();
-        backend_busy = true;
-      }
-      runRound(s);
-      std::lock_guard<std::mutex> lock(mutex);
-      backend_busy = false;
-    }
-  });
-
-  const int64_t first_time = input.updates.empty() ? 0 : input.updates.front().time_ns;
-  size_t news = 0;  // loop closures or updates since the last hand-off
-  for (size_t i = 0; i < input.updates.size(); ++i) {
-    const RobotUpdate& update = input.updates[i];
-    if (options.speed > 0.0) {
-      const auto due = start + std::chrono::nanoseconds(static_cast<int64_t>(
-                                   double(update.time_ns - first_time) / options.speed));
-      std::this_thread::sleep_until(due);
-    }
-    const Clock::time_point t0 = Clock::now();
-    const UpdateReport report = processor.process(update);
-    UpdateTiming timing;
-    timing.robot = update.robot;
-    timing.sequence = update.sequence;
-    timing.time_ns = update.time_ns;
-    if (report.outcome == UpdateOutcome::kApplied) {
-      timing.loop_closures = detector.update(processor, report.new_keyframes).size();
-      ++news;
-    }
-    timing.frontend_ms = millisecondsSince(t0);
-    // Hand the backend the latest state when it is idle and there is something new.
-    bool idle = false;
-    {
-      std::lock_guard<std::mutex> lock(mutex);
-      idle = !backend_busy && !pending;
-    }
-    if (idle && news > 0) {
-      const Clock::time_point t1 = Clock::now();
-      Snapshot s =
-          takeSnapshot(processor, detector, i + 1, preferredRoot(processor, input), options);
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        pending = std::move(s);
-      }
-      wake.notify_one();
-      news = 0;
-      timing.handoff_ms = millisecondsSince(t1);
-    }
-    result.updates.push_back(timing);
-    if ((i + 1) % 100 == 0)
-      log("frontend: " + std::to_string(i + 1) + "/" + std::to_string(input.updates.size()) +
-          " updates, " + std::to_string(detector.loopClosures().size()) + " loop closures");
+  void log(const std::string& line) {
+    if (!options.log) return;
+    std::lock_guard<std::mutex> lock(log_mutex);
+    options.log(line);
   }
+
+  void runRound(const Snapshot& s);
+  void backendLoop();
+  void frontendLoop();
+  void process(const RobotUpdate& update, Clock::time_point submitted);
+  void handOff(size_t after_update);
+  void endOfInput();
+  size_t queued() const;
+
+  StationOptions options;
+  std::vector<RobotId> team;
+  RobotId team_first;
+  const Clock::time_point start = Clock::now();
+  std::mutex log_mutex;
+
+  // The ingest queue, between the inputs and the frontend thread.
+  mutable std::mutex queue_mutex;
+  std::condition_variable queue_wake;
+  std::deque<std::pair<RobotUpdate, Clock::time_point>> queue;
+  bool input_closed = false;
+  std::map<RobotId, size_t> skipped;  // damaged records per robot, as inputs report them
+
+  // The frontend thread's state.
+  SceneGraphProcessor processor;
+  LoopClosureDetector detector;
+  size_t processed = 0;
+  size_t news = 0;  // updates applied since the last hand-off
+
+  // The hand-off between the frontend and the backend thread.
+  Backend backend;
+  std::mutex handoff_mutex;
+  std::condition_variable handoff_wake;
+  std::optional<Snapshot> pending;
+  bool backend_busy = false, backend_done = false;
+  std::optional<RobotId> global;  // the robot whose frame the backend's graph is in
+
+  StationResult result;
+  std::thread frontend_thread, backend_thread;
+  bool finished = false;
+};
+
+void Station::Impl::runRound(const Snapshot& s) {
+  std::vector<BackendRobot> robots;
+  for (const auto& [robot, state] : s.robots) {
+    robots.push_back(
+        {robot, &state.pose_graph, &state.control_points, &state.control_point_edges, &state.mesh});
+  }
+  RoundTiming timing;
+  timing.round = result.rounds.size();
+  timing.after_update = s.after_update;
+  timing.report = backend.round(s.graph, robots, s.inter_robot, s.root, s.support);
+  result.rounds.push_back(timing);
+  // Say whose frame the map is in when it is not the team's first robot's, and when it moves.
+  const RobotId now = backend.alignment().root().value_or(s.root);
+  if (!global && now != team_first)
+    log("station: the global frame is robot " + now.str() + "'s: the station has no update of " +
+        team_first.str() + " yet");
+  if (global && now != *global)
+    log("station: the global frame moves to robot " + now.str() + "'s (aligned with robot " +
+        global->str() + ")");
+  global = now;
+  const BackendRoundReport& r = timing.report;
+  log("backend round " + std::to_string(timing.round) + " after update " +
+      std::to_string(s.after_update) + ": " + std::to_string(r.robots_aligned) + "/" +
+      std::to_string(r.robots) + " robots aligned, " + std::to_string(r.inter_robot_inliers) + "/" +
+      std::to_string(r.inter_robot_loop_closures) + " inter-robot loop closures kept, " +
+      std::to_string(r.merges_accepted) + "/" + std::to_string(r.merges_proposed) + " merges, " +
+      (r.label_merges > 0 ? std::to_string(r.label_merges) + " by label votes, " : std::string()) +
+      std::to_string(r.nodes) + " nodes, " + std::to_string(r.rooms) + " rooms, " +
+      std::to_string(r.time_s) + " s");
+}
+
+void Station::Impl::backendLoop() {
+  for (;;) {
+    Snapshot s;
+    {
+      std::unique_lock<std::mutex> lock(handoff_mutex);
+      handoff_wake.wait(lock, [&] { return pending.has_value() || backend_done; });
+      if (!pending) return;
+      s = std::move(*pending);
+      pending.reset();
+      backend_busy = true;
+    }
+    runRound(s);
+    std::lock_guard<std::mutex> lock(handoff_mutex);
+    backend_busy = false;
+  }
+}
+
+void Station::Impl::handOff(size_t after_update) {
+  Snapshot s = takeSnapshot(processor, detector, after_update, preferredRoot(processor, team_first),
+                            options);
+  {
+    std::lock_guard<std::mutex> lock(handoff_mutex);
+    pending = std::move(s);
+  }
+  handoff_wake.notify_one();
+}
+
+void Station::Impl::process(const RobotUpdate& update, Clock::time_point submitted) {
+  const Clock::time_point t0 = Clock::now();
+  const UpdateReport report = processor.process(update);
+  UpdateTiming timing;
+  timing.robot = update.robot;
+  timing.sequence = update.sequence;
+  timing.time_ns = update.time_ns;
+  timing.queue_ms = std::chrono::duration<double, std::milli>(t0 - submitted).count();
+  if (report.outcome == UpdateOutcome::kApplied) {
+    timing.loop_closures = detector.update(processor, report.new_keyframes).size();
+    ++news;
+  }
+  timing.frontend_ms = millisecondsSince(t0);
+  ++processed;
+  // Hand the backend the latest state when it is idle and there is something new.
+  bool idle = false;
+  {
+    std::lock_guard<std::mutex> lock(handoff_mutex);
+    idle = !backend_busy && !pending;
+  }
+  if (idle && news > 0) {
+    const Clock::time_point t1 = Clock::now();
+    handOff(processed);
+    news = 0;
+    timing.handoff_ms = millisecondsSince(t1);
+  }
+  result.updates.push_back(timing);
+  if (processed % 100 == 0)
+    log("frontend: " + std::to_string(processed) + " updates, " + std::to_string(queued()) +
+        " queued, " + std::to_string(detector.loopClosures().size()) + " loop closures");
+}
+
+size_t Station::Impl::queued() const {
+  std::lock_guard<std::mutex> lock(queue_mutex);
+  return queue.size();
+}
+
+void Station::Impl::frontendLoop() {
+  for (;;) {
+    std::pair<RobotUpdate, Clock::time_point> next;
+    {
+      std::unique_lock<std::mutex> lock(queue_mutex);
+      queue_wake.wait(lock, [&] { return !queue.empty() || input_closed; });
+      if (queue.empty()) break;  // closed and worked off
+      next = std::move(queue.front());
+      queue.pop_front();
+    }
+    process(next.first, next.second);
+  }
+  endOfInput();
+}
+
+void Station::Impl::endOfInput() {
   detector.flush(processor);
   // A robot whose stream did not all arrive (damaged records, a gap, rejected updates, nothing at
   // all): what the station has of it and where its map stops.
-  for (const RobotId robot : input.robots) {
-    const auto damaged = input.skipped_per_robot.find(robot);
-    const size_t skipped = damaged == input.skipped_per_robot.end() ? 0 : damaged->second;
-    if (!streamIsWhole(processor.order(robot), skipped))
-      log(describeStream(robot, processor.order(robot), skipped));
+  std::set<RobotId> robots(team.begin(), team.end());
+  for (const RobotId robot : processor.robots()) robots.insert(robot);
+  std::map<RobotId, size_t> damaged;
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex);
+    damaged = skipped;
   }
+  for (const RobotId robot : robots) {
+    const size_t records = damaged.count(robot) ? damaged.at(robot) : 0;
+    if (!streamIsWhole(processor.order(robot), records))
+      log(describeStream(robot, processor.order(robot), records));
+  }
+  result.robots = robots.size();
   // The last round runs on the final state, after whatever round is running now.
+  handOff(processed);
   {
-    std::unique_lock<std::mutex> lock(mutex);
-    pending = takeSnapshot(processor, detector, input.updates.size(),
-                           preferredRoot(processor, input), options);
+    std::lock_guard<std::mutex> lock(handoff_mutex);
+    backend_done = true;
   }
-  wake.notify_one();
-  {
-    std::unique_lock<std::mutex> lock(mutex);
-    done = true;
-  }
-  wake.notify_one();
-  backend_thread.join();
+  handoff_wake.notify_one();
+}
 
-  result.graph = backend.graph();
-  result.loop_closures = detector.loopClosures();
-  result.inter_robot_inliers = backend.loopClosureInliers();
-  result.alignment_inliers = backend.alignment().edgeInliers();
-  result.merges = backend.merges();
-  result.aligned = backend.aligned();
-  result.counts = processor.counts();
-  result.global_robot = global.value_or(team_first);
-  for (const NodeId id : processor.graph().nodesInLayer(Layer::kAgents)) {
-    if (const auto* agent = processor.graph().getNode(id).find<AgentAttributes>())
+Station::Station(StationOptions options, std::vector<RobotId> team)
+    : impl_(std::make_unique<Impl>(std::move(options), std::move(team))) {
+  impl_->backend_thread = std::thread([this] { impl_->backendLoop(); });
+  impl_->frontend_thread = std::thread([this] { impl_->frontendLoop(); });
+}
+
+Station::~Station() {
+  if (!impl_->finished) finish();
+}
+
+bool Station::submit(RobotUpdate update) {
+  {
+    std::lock_guard<std::mutex> lock(impl_->queue_mutex);
+    if (impl_->input_closed) return false;
+    impl_->queue.emplace_back(std::move(update), Clock::now());
+  }
+  impl_->queue_wake.notify_one();
+  return true;
+}
+
+void Station::noteSkipped(RobotId robot, size_t records) {
+  std::lock_guard<std::mutex> lock(impl_->queue_mutex);
+  impl_->skipped[robot] += records;
+}
+
+size_t Station::queued() const { return impl_->queued(); }
+
+StationResult Station::finish() {
+  Impl& s = *impl_;
+  if (s.finished) return {};
+  {
+    std::lock_guard<std::mutex> lock(s.queue_mutex);
+    s.input_closed = true;
+  }
+  s.queue_wake.notify_one();
+  s.frontend_thread.join();
+  s.backend_thread.join();
+  s.finished = true;
+
+  StationResult& result = s.result;
+  result.graph = s.backend.graph();
+  result.loop_closures = s.detector.loopClosures();
+  result.inter_robot_inliers = s.backend.loopClosureInliers();
+  result.alignment_inliers = s.backend.alignment().edgeInliers();
+  result.merges = s.backend.merges();
+  result.aligned = s.backend.aligned();
+  result.counts = s.processor.counts();
+  result.global_robot = s.global.value_or(s.team_first);
+  for (const NodeId id : s.processor.graph().nodesInLayer(Layer::kAgents)) {
+    if (const auto* agent = s.processor.graph().getNode(id).find<AgentAttributes>())
       result.keyframe_stamps[id] = agent->timestamp_ns;
   }
-  result.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
-  return result;
+  result.wall_s = std::chrono::duration<double>(Clock::now() - s.start).count();
+  return std::move(result);
+}
+
+StationResult runStation(const DatasetStreams& input, const StationOptions& options) {
+  Station station(options, input.robots);
+  for (const auto& [robot, records] : input.skipped_per_robot)
+    if (records > 0) station.noteSkipped(robot, records);
+  // Robot time, paced by `speed`: each update is due when its time has passed at that speed.
+  const Clock::time_point start = Clock::now();
+  const int64_t first_time = input.updates.empty() ? 0 : input.updates.front().time_ns;
+  for (const RobotUpdate& update : input.updates) {
+    if (options.speed > 0.0) {
+      std::this_thread::sleep_until(
+          start + std::chrono::nanoseconds(
+                      static_cast<int64_t>(double(update.time_ns - first_time) / options.speed)));
+    }
+    station.submit(update);
+  }
+  return station.finish();
 }
 
 }  // namespace hydra_multi

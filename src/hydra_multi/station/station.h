@@ -1,17 +1,20 @@
 #pragma once
-// The station runtime (DESIGN.md "Data flow"): the frontend in the calling thread, the backend in
-// its own. Updates arrive in robot-time order, paced by `speed` (1: real time, 10: ten times
-// faster, 0: as fast as the frontend goes); each goes through the scene-graph processor and the
-// loop-closure detector, timed. Whenever the backend is idle and the frontend has news, the
-// frontend hands it a snapshot of its state (graph, per-robot pose graphs, control points,
+// The station (DESIGN.md "Data flow"): one pipeline that any input feeds. `Station::submit` puts a
+// robot update on the ingest queue from any thread (the file replay below, later the network);
+// the frontend thread takes them in arrival order through the scene-graph processor and the
+// loop-closure detector, timed; whenever the backend thread is idle and the frontend has news,
+// the frontend hands it a snapshot of its state (graph, per-robot pose graphs, control points,
 // meshes, inter-robot loop closures) and goes on; the backend runs a round on it (backend.h). The
-// frontend never waits for the backend. After the last update, the detector describes the
-// remaining keyframes and the backend runs one last round on the final state.
+// frontend never waits for the backend. `finish` closes the input: the frontend works off the
+// queue, the detector describes the remaining keyframes and the backend runs one last round on
+// the final state.
 // The global frame should be robot a's; each round asks for the first robot with an update applied
 // (backend/initial_alignment.h moves the frame to it once it is aligned), so a robot the station
 // has nothing of never takes the others with it.
+// Log lines come from both threads; the station calls `log` for one line at a time.
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -22,7 +25,7 @@
 namespace hydra_multi {
 
 struct StationOptions {
-  double speed = 0.0;  ///< replay speed: 1 real time, 10 ten times faster, 0 as fast as possible
+  double speed = 0.0;  ///< file replay: 1 real time, 10 ten times faster, 0 as fast as possible
   ProcessorOptions processor;
   LoopClosureOptions detector;
   BackendOptions backend;
@@ -37,6 +40,7 @@ struct UpdateTiming {
   uint64_t sequence = 0;
   int64_t time_ns = 0;
   double frontend_ms = 0.0;  ///< processing and detection
+  double queue_ms = 0.0;     ///< waiting on the ingest queue before that
   double handoff_ms = 0.0;   ///< copying the state for the backend (0 when none)
   size_t loop_closures = 0;  ///< found by this update
 };
@@ -65,7 +69,35 @@ struct StationResult {
   double wall_s = 0.0;
 };
 
-/// Runs the station over a dataset's streams.
+class Station {
+ public:
+  /// Starts the frontend and backend threads. `team`: the robots expected, if known (the first
+  /// is the global frame's; empty: robot a).
+  explicit Station(StationOptions options, std::vector<RobotId> team = {});
+  /// Finishes if finish() was not called.
+  ~Station();
+  Station(const Station&) = delete;
+  Station& operator=(const Station&) = delete;
+
+  /// Puts an update on the ingest queue (any thread, any input); updates are processed in the
+  /// order they are submitted. False, and nothing queued, once finish() has begun.
+  bool submit(RobotUpdate update);
+  /// Records that an input left out `records` damaged records of a robot's stream (the end of
+  /// the run says so with that robot's updates).
+  void noteSkipped(RobotId robot, size_t records);
+  /// Updates submitted and not yet processed.
+  size_t queued() const;
+  /// Closes the input, works off the queue, runs the last backend round and returns everything.
+  /// Blocks until then; a second call returns an empty result.
+  StationResult finish();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// The file replay: a dataset's streams submitted to a Station in robot-time order, paced by
+/// `options.speed`, then the result.
 StationResult runStation(const DatasetStreams& input, const StationOptions& options = {});
 
 /// The inter-robot loop closures as pose-graph edges (station ids).
