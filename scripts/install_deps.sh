@@ -11,6 +11,7 @@ packages=(
   libceres-dev libsuitesparse-dev  # optim: pose-graph optimization, sparse Cholesky
   libnanoflann-dev     # core: KD-tree nearest neighbours
   libgtest-dev libgmock-dev  # tests
+  libzmq3-dev cppzmq-dev     # net: robots and station over ZeroMQ
 )
 
 missing=()

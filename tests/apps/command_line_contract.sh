@@ -47,6 +47,8 @@ base_args() {
     detect) echo "--dataset $DIR" ;;
     run) echo "--dataset $DIR --out $TMP/x" ;;
     trials) echo "--preset tiny --out $TMP/x" ;;
+    station) echo "--out $TMP/x" ;;
+    robot) echo "--dataset $DIR --robot a --connect tcp://127.0.0.1:1" ;;
     *) echo "" ;;
   esac
 }
@@ -100,7 +102,7 @@ for cmd in $commands; do
     done
   done < <("$HM" "$cmd" --help | sed -nE 's/^  (--[a-z-]+) (FLOAT|INT|UINT):?([^ ]* [^ ]* [^ ]*)?.*$/\1 \2 \3/p')
 done
-[ "$numeric" -ge 14 ] || { echo "FAIL: only $numeric numeric options found in --help"; failures=$((failures + 1)); }
+[ "$numeric" -ge 19 ] || { echo "FAIL: only $numeric numeric options found in --help"; failures=$((failures + 1)); }
 
 # trials --seeds: a range of unsigned 64-bit seeds.
 for seeds in -1 5-3 1-1001 x 1-x 18446744073709551616 18446744073709551615-18446744073709551616; do
@@ -157,6 +159,9 @@ outfile|detect --dataset $DATASET --loop-closures @
 outdir|simulate --out @
 outdir|run --dataset $DATASET --out @
 outdir|trials --preset tiny --out @
+outdir|station --out @
+file|station --out $TMP/x --config @
+folder|robot --dataset @ --robot a --connect tcp://127.0.0.1:1
 EOF
 
 # Empty paths are a wrong command line.

@@ -127,6 +127,27 @@ int runTrials(const TrialsOptions& options);
 /// The methods `trials` knows: full, the ablations and the baselines of `run`.
 const std::vector<std::string>& trialMethods();
 
+struct StationCommandOptions {
+  std::string listen = "tcp://127.0.0.1:7800";  ///< ZeroMQ endpoint robots connect to
+  std::string out;                              ///< output directory (created)
+  std::string config;                           ///< station configuration file (JSON)
+  size_t expect_robots = 0;  ///< end once this many robots said BYE (0: at SIGINT/SIGTERM)
+  double max_message_mb = 64.0;
+  bool quiet = false;
+};
+int runStationCommand(const StationCommandOptions& options);
+
+struct RobotCommandOptions {
+  std::string dataset;
+  std::string robot;    ///< letter (a, b, ...)
+  std::string connect;  ///< the station's endpoint
+  double speed =
+      0.0;  ///< robot time: 1 real time, 10 faster, 0 as fast as the station acknowledges
+  double timeout_s = 60.0;  ///< give up when the station has not taken everything by then
+  bool quiet = false;
+};
+int runRobotCommand(const RobotCommandOptions& options);
+
 /// Prints "hydra-multi: error: <message>" on stderr and returns 1.
 int fail(const std::string& message);
 

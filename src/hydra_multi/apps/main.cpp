@@ -8,6 +8,7 @@
 
 #include "hydra_multi/apps/command_line.h"
 #include "hydra_multi/apps/commands.h"
+#include "hydra_multi/core/robot_id.h"
 #include "hydra_multi/core/version.h"
 
 int main(int argc, char** argv) {
@@ -209,6 +210,44 @@ int main(int argc, char** argv) {
                 "station configuration (JSON; README lists the keys)");
   run_cmd->add_flag("--quiet", run.quiet, "no progress lines on stderr");
 
+  StationCommandOptions station;
+  CLI::App* station_cmd = app.add_subcommand(
+      "station", "The station as a service: robots stream to it over ZeroMQ (docs/PROTOCOL.md)");
+  station_cmd
+      ->add_option("--listen", station.listen,
+                   "ZeroMQ endpoint to bind (a port of '*' picks a free one; the bound endpoint "
+                   "is written to OUT/endpoint)")
+      ->capture_default_str();
+  cli.outputDirectory(station_cmd, "--out", station.out, "output directory (created)")->required();
+  cli.inputFile(station_cmd, "--config", station.config,
+                "station configuration (JSON; README lists the keys)");
+  cli.integer(station_cmd, "--expect-robots", station.expect_robots,
+              "end once this many robots have said BYE (0: run until SIGINT or SIGTERM)", size_t{0},
+              size_t{hydra_multi::RobotId::kMaxRobots})
+      ->capture_default_str();
+  cli.real(station_cmd, "--max-message-mb", station.max_message_mb, "larger messages are refused",
+           {0.0, 4096.0, true})
+      ->capture_default_str();
+  station_cmd->add_flag("--quiet", station.quiet, "no progress lines on stderr");
+
+  RobotCommandOptions robot;
+  CLI::App* robot_cmd = app.add_subcommand(
+      "robot", "Play one robot of a recorded dataset as a live robot streaming to a station");
+  cli.inputDirectory(robot_cmd, "--dataset", robot.dataset, "dataset directory (from simulate)")
+      ->required();
+  robot_cmd->add_option("--robot", robot.robot, "robot letter (a, b, ...)")->required();
+  robot_cmd->add_option("--connect", robot.connect, "the station's endpoint (tcp://HOST:PORT)")
+      ->required();
+  cli.real(robot_cmd, "--speed", robot.speed,
+           "robot time: 1 real time, 10 faster, 0 as fast as the station acknowledges",
+           {0.0, 1000.0})
+      ->capture_default_str();
+  cli.real(robot_cmd, "--timeout", robot.timeout_s,
+           "give up (exit 1) when the station has not taken every update after this many seconds",
+           {0.0, 86400.0, true})
+      ->capture_default_str();
+  robot_cmd->add_flag("--quiet", robot.quiet, "no progress lines on stderr");
+
   TrialsOptions trials;
   std::string seeds = "1-5";
   constexpr uint64_t kMaxSeeds = 1000;
@@ -267,5 +306,7 @@ int main(int argc, char** argv) {
   if (*dataset_graph_cmd) return runDatasetGraph(dataset_graph);
   if (*detect_cmd) return runDetect(detect);
   if (*run_cmd) return runRun(run);
+  if (*station_cmd) return runStationCommand(station);
+  if (*robot_cmd) return runRobotCommand(robot);
   return 0;
 }

@@ -21,6 +21,7 @@
 #include "hydra_multi/apps/commands.h"
 #include "hydra_multi/apps/loop_closure_csv.h"
 #include "hydra_multi/apps/score_json.h"
+#include "hydra_multi/apps/station_outputs.h"
 #include "hydra_multi/dsg/io/graph_file.h"
 #include "hydra_multi/eval/dataset_evaluation.h"
 #include "hydra_multi/eval/trajectory_error.h"
@@ -98,25 +99,7 @@ int runRun(const RunOptions& o) {
   const StationResult result = runStation(streams.value(), options);
 
   const fs::path out(o.out);
-  for (const char* name : {"graph.json", "graph.spark.json", "mesh.ply"}) {
-    if (Status s = io::saveSceneGraph((out / name).string(), result.graph); !s)
-      return fail(s.message());
-  }
-  // timing.csv: one row per update (frontend) and per backend round.
-  std::ofstream timing(out / "timing.csv");
-  timing << "kind,index,robot,sequence,robot_time_s,ms,handoff_ms,loop_closures,nodes,poses,"
-            "factors\n";
-  for (size_t i = 0; i < result.updates.size(); ++i) {
-    const UpdateTiming& u = result.updates[i];
-    timing << "update," << i << "," << u.robot.str() << "," << u.sequence << "," << u.time_ns * 1e-9
-           << "," << u.frontend_ms << "," << u.handoff_ms << "," << u.loop_closures << ",,,\n";
-  }
-  for (const RoundTiming& r : result.rounds) {
-    timing << "backend," << r.round << ",,," << r.after_update << "," << r.report.time_s * 1e3
-           << ",," << r.report.inter_robot_inliers << "," << r.report.nodes << ","
-           << r.report.variables << "," << r.report.factors << "\n";
-  }
-  if (!timing) return fail("cannot write " + (out / "timing.csv").string());
+  if (Status s = writeStationOutputs(o.out, result); !s) return fail(s.message());
 
   // Evaluation, after the run: only now is the ground truth read.
   auto truth = readDatasetGroundTruth(o.dataset);
@@ -176,11 +159,7 @@ int runRun(const RunOptions& o) {
                 << room(check.room_a) << ", " << check.true_distance_m << " m apart" << std::endl;
     }
   }
-  std::vector<double> frontend_ms, backend_ms;
-  for (const UpdateTiming& u : result.updates) frontend_ms.push_back(u.frontend_ms);
-  for (const RoundTiming& r : result.rounds) backend_ms.push_back(r.report.time_s * 1e3);
-  const ErrorStatistics frontend = errorStatistics(frontend_ms);
-  const ErrorStatistics backend = errorStatistics(backend_ms);
+  const StationTimes times = stationTimes(result);
   // Updates: applied (on arrival or from the reorder buffer), refused as invalid, and those behind
   // a missing one (a skipped record) that were never applied: buffered or refused while the robot
   // waited for a snapshot.
@@ -206,10 +185,10 @@ int runRun(const RunOptions& o) {
       {"merges_undone", result.rounds.empty() ? 0 : result.rounds.back().report.merges_undone},
       {"merges_label", result.rounds.empty() ? 0 : result.rounds.back().report.label_merges},
       {"merges_across_rooms", merges_across_rooms},
-      {"frontend_ms_p50", frontend.median},
-      {"frontend_ms_max", frontend.max},
-      {"backend_ms_p50", backend.median},
-      {"backend_ms_max", backend.max},
+      {"frontend_ms_p50", times.frontend_ms_p50},
+      {"frontend_ms_max", times.frontend_ms_max},
+      {"backend_ms_p50", times.backend_ms_p50},
+      {"backend_ms_max", times.backend_ms_max},
       {"backend_rounds", result.rounds.size()},
       {"wall_s", result.wall_s},
       {"method", o.baseline.empty() ? o.ablation : o.baseline}};
@@ -259,10 +238,10 @@ int runRun(const RunOptions& o) {
             << "  places error          " << show(score.places_position_error_m, 3) << " m\n"
             << "  rooms                 " << score.num_rooms << ", precision "
             << show(score.rooms_precision, 2) << ", recall " << show(score.rooms_recall, 2) << "\n"
-            << "  frontend per update   median " << frontend.median << " ms, max " << frontend.max
-            << " ms\n"
-            << "  backend per round     median " << backend.median / 1e3 << " s, max "
-            << backend.max / 1e3 << " s\n"
+            << "  frontend per update   median " << times.frontend_ms_p50 << " ms, max "
+            << times.frontend_ms_max << " ms\n"
+            << "  backend per round     median " << times.backend_ms_p50 / 1e3 << " s, max "
+            << times.backend_ms_max / 1e3 << " s\n"
             << "outputs in " << o.out
             << ": graph.json, graph.spark.json, mesh.ply, metrics.json, config.json, "
                "inputs.json, timing.csv, loop_closures.csv\n";

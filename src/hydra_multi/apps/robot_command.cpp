@@ -1,0 +1,71 @@
+// `hydra-multi robot --dataset DIR --robot R --connect ENDPOINT [--speed X]`: robot R of a recorded
+// dataset played as a live robot (net/robot_client.h): its updates sent to a station as its robot
+// time comes (`--speed 0`: as fast as the station acknowledges), kept until acknowledged and sent
+// again after a reconnect; BYE once the station holds them all.
+
+#include <chrono>
+#include <iostream>
+#include <thread>
+
+#include "hydra_multi/apps/commands.h"
+#include "hydra_multi/dsg/io/dataset_files.h"
+#include "hydra_multi/net/robot_client.h"
+
+namespace hydra_multi::apps {
+
+int runRobotCommand(const RobotCommandOptions& o) {
+  using Clock = std::chrono::steady_clock;
+  auto manifest = io::readDatasetManifest(o.dataset);
+  if (!manifest) return fail(manifest.error());
+  const io::DatasetRobot* entry = nullptr;
+  std::string known;
+  for (const io::DatasetRobot& r : manifest.value().robots) {
+    if (r.robot.str() == o.robot) entry = &r;
+    known += (known.empty() ? "" : ", ") + r.robot.str();
+  }
+  if (entry == nullptr)
+    return fail("no robot '" + o.robot + "' in " + o.dataset + " (robots: " + known + ")");
+  auto records = io::loadRobotStream(entry->stream, entry->robot);
+  if (!records) return fail(records.error());
+  for (const std::string& skipped : records.value().skipped)
+    std::cerr << "robot " << o.robot << ": skipped " << skipped << std::endl;
+  const std::vector<RobotUpdate>& updates = records.value().updates;
+  if (updates.empty()) return fail(entry->stream + ": no intact update to send");
+
+  net::RobotClientOptions options;
+  options.connect = o.connect;
+  if (!o.quiet) options.log = [](const std::string& line) { std::cerr << line << std::endl; };
+  net::RobotClient client(entry->robot, updates.front().provided_layers, options);
+  const Clock::time_point start = Clock::now();
+  const Clock::time_point deadline = start + std::chrono::duration_cast<Clock::duration>(
+                                                 std::chrono::duration<double>(o.timeout_s));
+  const int64_t first_time = updates.front().time_ns;
+  for (const RobotUpdate& u : updates) {
+    if (o.speed > 0.0) {
+      const auto due = start + std::chrono::nanoseconds(
+                                   static_cast<int64_t>(double(u.time_ns - first_time) / o.speed));
+      while (Clock::now() < due && client.fatal().empty())
+        client.pump(std::chrono::milliseconds(10));
+    }
+    while (!client.enqueue(u) && client.fatal().empty() && Clock::now() < deadline)
+      client.pump(std::chrono::milliseconds(10));
+    client.pump(std::chrono::milliseconds(0));
+    if (!client.fatal().empty()) return fail(o.connect + ": " + client.fatal());
+    if (Clock::now() >= deadline) break;
+  }
+  const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+  const bool finished = client.finish(std::max(left, std::chrono::milliseconds(0)));
+  const net::RobotClientCounts& c = client.counts();
+  std::cout << "robot " << o.robot << " to " << o.connect << ": " << updates.size() << " updates, "
+            << c.sent << " sent, " << c.resent << " sent again, " << c.acknowledged
+            << " acknowledged, " << c.refused << " refused, " << c.connections
+            << (c.connections == 1 ? " connection, " : " connections, ") << c.bytes << " bytes\n";
+  if (!client.fatal().empty()) return fail(o.connect + ": " + client.fatal());
+  if (!finished)
+    return fail(o.connect + ": the station did not take every update within " +
+                std::to_string(o.timeout_s) + " s (" + std::to_string(client.unacknowledged()) +
+                " unacknowledged)");
+  return 0;
+}
+
+}  // namespace hydra_multi::apps

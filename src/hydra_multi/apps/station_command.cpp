@@ -1,0 +1,114 @@
+// `hydra-multi station --listen ENDPOINT --out DIR [--config FILE] [--expect-robots N]`: the
+// station as a service. Robots connect over ZeroMQ (net/station_server.h, docs/PROTOCOL.md) and
+// stream their updates; the station runs until SIGINT or SIGTERM, or until N robots have said BYE,
+// then runs its last backend round and writes what `run` writes but the ground truth's verdicts
+// (the station never reads ground truth: `evaluate --dataset D --result DIR/graph.json` does),
+// plus DIR/station.json (what became of every robot's messages and updates) and DIR/endpoint (the
+// endpoint bound, written as soon as it is: a ':*' port picks a free one).
+
+#include <atomic>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "hydra_multi/apps/commands.h"
+#include "hydra_multi/apps/station_outputs.h"
+#include "hydra_multi/net/station_server.h"
+#include "hydra_multi/station/station_config.h"
+
+namespace hydra_multi::apps {
+namespace {
+
+std::atomic<bool> stop_requested{false};
+
+extern "C" void onStopSignal(int) { stop_requested = true; }
+
+}  // namespace
+
+int runStationCommand(const StationCommandOptions& o) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(o.out, ec);
+  if (ec) return fail("cannot create " + o.out + ": " + ec.message());
+  StationOptions options;
+  if (!o.config.empty()) {
+    if (Status s = loadStationConfig(o.config, options); !s) return fail(s.message());
+  }
+  const auto config = canonicalStationConfig(o.config);
+  if (!config) return fail(config.error());
+  const auto log = [&o](const std::string& line) {
+    if (!o.quiet) std::cerr << line << std::endl;
+  };
+  options.log = log;
+  Station station(options);
+  net::StationServerOptions server_options;
+  server_options.listen = o.listen;
+  server_options.max_message_bytes = static_cast<size_t>(o.max_message_mb * (1 << 20));
+  server_options.log = log;
+  auto server = net::StationServer::create(station, server_options);
+  if (!server) return fail(server.error());
+  const std::string endpoint = server.value()->endpoint();
+  std::ofstream(fs::path(o.out) / "endpoint") << endpoint << "\n";
+  std::cerr << "station: listening on " << endpoint << " (no authentication: any peer that "
+            << "reaches it can speak for any robot)"
+            << (o.expect_robots > 0
+                    ? ", until " + std::to_string(o.expect_robots) + " robots have said BYE"
+                    : std::string(", until SIGINT or SIGTERM"))
+            << std::endl;
+
+  stop_requested = false;
+  std::signal(SIGINT, onStopSignal);
+  std::signal(SIGTERM, onStopSignal);
+  server.value()->serve([] { return stop_requested.load(); }, o.expect_robots);
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  log("station: input closed; last backend round");
+  const StationResult result = station.finish();
+  if (Status s = writeStationOutputs(o.out, result); !s) return fail(s.message());
+  std::ofstream(fs::path(o.out) / "config.json") << config.value() << "\n";
+
+  const net::StationServerCounts& counts = server.value()->counts();
+  const StationTimes times = stationTimes(result);
+  nlohmann::ordered_json robots = nlohmann::ordered_json::object();
+  size_t duplicates = 0;
+  for (const auto& [robot, c] : counts.robots) {
+    robots[robot.str()] = {{"updates", c.updates},         {"duplicates", c.duplicates},
+                           {"connections", c.connections}, {"bytes", c.bytes},
+                           {"said_bye", c.said_bye},       {"next_sequence", c.next_sequence}};
+    duplicates += c.duplicates;
+  }
+  const nlohmann::ordered_json summary = {{"endpoint", endpoint},
+                                          {"robots", result.robots},
+                                          {"robots_aligned", result.aligned.size()},
+                                          {"global_frame_robot", result.global_robot.str()},
+                                          {"updates_applied", result.counts.appliedTotal()},
+                                          {"updates_duplicate", duplicates},
+                                          {"updates_refused", counts.refused},
+                                          {"updates_rejected", result.counts.rejected},
+                                          {"updates_behind_gap", result.counts.behindGap()},
+                                          {"bytes_received", counts.bytes},
+                                          {"backend_rounds", result.rounds.size()},
+                                          {"frontend_ms_p50", times.frontend_ms_p50},
+                                          {"backend_ms_p50", times.backend_ms_p50},
+                                          {"backend_ms_max", times.backend_ms_max},
+                                          {"per_robot", robots}};
+  std::ofstream(fs::path(o.out) / "station.json") << summary.dump(2) << "\n";
+  size_t refused = 0;
+  for (const auto& [reason, n] : counts.refused) refused += n;
+  std::cout << std::fixed << std::setprecision(2) << "station on " << endpoint << ": "
+            << result.robots << " robots, " << result.rounds.size() << " backend rounds, "
+            << result.wall_s << " s\n"
+            << "  updates               " << describeUpdates(result.counts, 0) << "\n"
+            << "  messages              " << counts.bytes << " bytes, " << duplicates
+            << " updates resent and held already, " << refused << " refused\n"
+            << "  robots aligned        " << result.aligned.size() << " of " << result.robots
+            << "; global frame: robot " << result.global_robot.str() << "'s\n"
+            << "outputs in " << o.out
+            << ": graph.json, graph.spark.json, mesh.ply, timing.csv, config.json, station.json\n";
+  return 0;
+}
+
+}  // namespace hydra_multi::apps

@@ -1,0 +1,21 @@
+#pragma once
+// What every station run writes into its output folder, whatever fed it (`run`'s file replay,
+// `station`'s network): graph.json, graph.spark.json, mesh.ply (the final backend graph) and
+// timing.csv (one row per update, frontend, and per backend round).
+
+#include <string>
+
+#include "hydra_multi/core/result.h"
+#include "hydra_multi/station/station.h"
+
+namespace hydra_multi::apps {
+
+Status writeStationOutputs(const std::string& dir, const StationResult& result);
+
+/// Median and maximum, for the summaries: frontend ms per update, backend ms per round.
+struct StationTimes {
+  double frontend_ms_p50 = 0.0, frontend_ms_max = 0.0, backend_ms_p50 = 0.0, backend_ms_max = 0.0;
+};
+StationTimes stationTimes(const StationResult& result);
+
+}  // namespace hydra_multi::apps

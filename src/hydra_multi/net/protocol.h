@@ -1,0 +1,70 @@
+#pragma once
+// The messages between robots and the station (docs/PROTOCOL.md), without sockets: each message
+// is a list of frames; the first is the header "HM", the protocol version and the type, then
+// fixed fields, little-endian. decodeMessage checks every frame against its type and never
+// trusts a length it has not checked.
+//
+//   HELLO      robot -> station   header                 | JSON {robot, epoch, layers}
+//   WELCOME    station -> robot   header                 | JSON {station, next_sequence}
+//   REFUSE     station -> robot   header, epoch, seq     | reason (text); seq: the update
+//                                                          refused, kNoSequence for another message
+//   UPDATE     robot -> station   header, epoch, seq     | payload (a .dsgb robot-update record)
+//   ACK        station -> robot   header, epoch, seq, next  (update seq is held, and every one
+//                                                           before next)
+//   HEARTBEAT  both ways          header
+//   BYE        robot -> station   header                 (the robot's mission is over)
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hydra_multi/core/result.h"
+#include "hydra_multi/core/robot_id.h"
+
+namespace hydra_multi::net {
+
+inline constexpr uint8_t kProtocolVersion = 1;
+/// REFUSE of a message that is not an update.
+inline constexpr uint64_t kNoSequence = ~uint64_t{0};
+
+enum class MessageType : uint8_t {
+  kHello = 1,
+  kWelcome = 2,
+  kRefuse = 3,
+  kUpdate = 4,
+  kAck = 5,
+  kHeartbeat = 6,
+  kBye = 7,
+};
+const char* messageTypeName(MessageType type);
+
+struct Message {
+  MessageType type = MessageType::kHeartbeat;
+  uint64_t epoch = 0;     ///< UPDATE, ACK, HELLO: the robot process's run (changes on restart)
+  uint64_t sequence = 0;  ///< UPDATE: its sequence; ACK, REFUSE: the update answered
+  /// HELLO: robot and layers it provides.
+  RobotId robot;
+  uint32_t provided_layers = 0;
+  /// WELCOME, ACK: the station holds every update of this robot before it (0: none).
+  uint64_t next_sequence = 0;
+  std::string text;     ///< REFUSE: the reason; WELCOME: the station's name
+  std::string payload;  ///< UPDATE: the robot update, as one .dsgb record
+};
+
+Message hello(RobotId robot, uint64_t epoch, uint32_t provided_layers);
+Message welcome(uint64_t next_sequence);
+Message refuse(std::string reason, uint64_t epoch = 0, uint64_t sequence = kNoSequence);
+Message update(uint64_t epoch, uint64_t sequence, std::string payload);
+Message ack(uint64_t epoch, uint64_t sequence, uint64_t next_sequence);
+Message heartbeat();
+Message bye();
+
+/// The frames of a message, in order.
+std::vector<std::string> encodeMessage(const Message& message);
+/// A message from its frames; an error says what is wrong ("frame 1: HELLO: no robot name").
+/// Refused: a frame count or size that does not fit the type, another protocol version, an
+/// unknown type, malformed JSON.
+Result<Message> decodeMessage(const std::vector<std::string>& frames);
+
+}  // namespace hydra_multi::net

@@ -1,0 +1,239 @@
+#include "hydra_multi/net/robot_client.h"
+
+#include <map>
+#include <optional>
+#include <thread>
+#include <zmq.hpp>
+#include <zmq_addon.hpp>
+
+#include "hydra_multi/dsg/io/binary_format.h"
+#include "hydra_multi/net/protocol.h"
+
+namespace hydra_multi::net {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+Clock::duration seconds(double s) {
+  return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
+}
+
+struct Entry {
+  std::string payload;  // the update as one .dsgb record
+  bool in_flight = false;
+  bool ever_sent = false;
+  Clock::time_point sent_at;
+};
+
+}  // namespace
+
+struct RobotClient::Impl {
+  enum class State { kDisconnected, kHelloSent, kWelcomed };
+
+  Impl(RobotId r, uint32_t layers, RobotClientOptions o)
+      : robot(r), provided_layers(layers), options(std::move(o)) {
+    if (options.epoch == 0)
+      options.epoch =
+          static_cast<uint64_t>(std::chrono::system_clock::now().time_since_epoch().count());
+    backoff_s = options.backoff_min_s;
+  }
+
+  void log(const std::string& line) const {
+    if (options.log) options.log("robot " + robot.str() + ": " + line);
+  }
+  bool send(const Message& m);
+  void connect();
+  void disconnect(const std::string& why);
+  void receive();
+  void handle(const Message& m);
+  void sendUpdates();
+
+  RobotId robot;
+  uint32_t provided_layers;
+  RobotClientOptions options;
+  zmq::context_t context;
+  std::optional<zmq::socket_t> socket;
+  State state = State::kDisconnected;
+  Clock::time_point reconnect_at = Clock::now(), last_heard = Clock::now(),
+                    last_sent = Clock::now();
+  double backoff_s = 0.5;
+  std::map<uint64_t, Entry> outbox;  // by sequence
+  size_t in_flight = 0;
+  std::string fatal;
+  RobotClientCounts counts;
+};
+
+bool RobotClient::Impl::send(const Message& m) {
+  if (!socket) return false;
+  std::vector<zmq::message_t> parts;
+  for (const std::string& frame : encodeMessage(m)) {
+    counts.bytes += frame.size();
+    parts.emplace_back(frame.data(), frame.size());
+  }
+  const bool sent = zmq::send_multipart(*socket, parts, zmq::send_flags::dontwait).has_value();
+  if (sent) last_sent = Clock::now();
+  return sent;
+}
+
+void RobotClient::Impl::connect() {
+  socket.emplace(context, zmq::socket_type::dealer);
+  socket->set(zmq::sockopt::linger, 0);
+  try {
+    socket->connect(options.connect);
+  } catch (const zmq::error_t& e) {
+    fatal = options.connect + ": cannot connect: " + e.what();
+    socket.reset();
+    return;
+  }
+  state = State::kHelloSent;
+  last_heard = Clock::now();
+  send(hello(robot, options.epoch, provided_layers));
+}
+
+void RobotClient::Impl::disconnect(const std::string& why) {
+  log(why + "; connecting again in " + std::to_string(backoff_s) + " s");
+  socket.reset();
+  state = State::kDisconnected;
+  reconnect_at = Clock::now() + seconds(backoff_s);
+  backoff_s = std::min(2.0 * backoff_s, options.backoff_max_s);
+  for (auto& [sequence, entry] : outbox) entry.in_flight = false;
+  in_flight = 0;
+}
+
+void RobotClient::Impl::handle(const Message& m) {
+  last_heard = Clock::now();
+  switch (m.type) {
+    case MessageType::kWelcome: {
+      // The station holds everything before next_sequence: drop it, send the rest again.
+      ++counts.connections;
+      state = State::kWelcomed;
+      backoff_s = options.backoff_min_s;
+      outbox.erase(outbox.begin(), outbox.lower_bound(m.next_sequence));
+      for (auto& [sequence, entry] : outbox) entry.in_flight = false;
+      in_flight = 0;
+      log("welcomed, the station holds every update before " + std::to_string(m.next_sequence) +
+          ", " + std::to_string(outbox.size()) + " to send");
+      return;
+    }
+    case MessageType::kAck: {
+      const auto acknowledge = [this](std::map<uint64_t, Entry>::iterator it) {
+        if (it->second.in_flight) --in_flight;
+        ++counts.acknowledged;
+        return outbox.erase(it);
+      };
+      if (auto it = outbox.find(m.sequence); it != outbox.end()) acknowledge(it);
+      for (auto it = outbox.begin(); it != outbox.end() && it->first < m.next_sequence;)
+        it = acknowledge(it);
+      return;
+    }
+    case MessageType::kRefuse: {
+      if (m.sequence == kNoSequence) {
+        fatal = "the station refused: " + m.text;
+        log(fatal);
+        return;
+      }
+      log("the station refused update " + std::to_string(m.sequence) + ": " + m.text);
+      if (auto it = outbox.find(m.sequence); it != outbox.end()) {
+        if (it->second.in_flight) --in_flight;
+        outbox.erase(it);
+        ++counts.refused;
+      }
+      return;
+    }
+    default:
+      return;  // heartbeats: being heard is all
+  }
+}
+
+void RobotClient::Impl::receive() {
+  if (!socket) return;
+  for (int i = 0; i < 1000; ++i) {
+    std::vector<zmq::message_t> parts;
+    if (!zmq::recv_multipart(*socket, std::back_inserter(parts), zmq::recv_flags::dontwait)) return;
+    std::vector<std::string> frames;
+    for (zmq::message_t& part : parts) frames.push_back(part.to_string());
+    auto m = decodeMessage(frames);
+    if (!m) {
+      log("a message from the station that does not decode: " + m.error());
+      continue;
+    }
+    handle(m.value());
+  }
+}
+
+void RobotClient::Impl::sendUpdates() {
+  for (auto& [sequence, entry] : outbox) {
+    const bool due = !entry.in_flight || secondsSince(entry.sent_at) > options.resend_s;
+    if (!due) continue;
+    if (!entry.in_flight && in_flight >= options.window) break;
+    if (!send(update(options.epoch, sequence, entry.payload))) break;  // queue full: later
+    (entry.ever_sent ? counts.resent : counts.sent) += 1;
+    if (!entry.in_flight) ++in_flight;
+    entry.in_flight = entry.ever_sent = true;
+    entry.sent_at = Clock::now();
+  }
+}
+
+RobotClient::RobotClient(RobotId robot, uint32_t provided_layers, RobotClientOptions options)
+    : impl_(std::make_unique<Impl>(robot, provided_layers, std::move(options))) {}
+RobotClient::~RobotClient() = default;
+
+bool RobotClient::enqueue(const RobotUpdate& update) {
+  if (impl_->outbox.size() >= impl_->options.outbox_limit) return false;
+  impl_->outbox[update.sequence].payload = io::encodeRobotUpdateBinary(update);
+  return true;
+}
+
+void RobotClient::pump(std::chrono::milliseconds budget) {
+  Impl& c = *impl_;
+  const Clock::time_point end = Clock::now() + budget;
+  do {
+    if (!c.fatal.empty()) return;
+    if (c.state == Impl::State::kDisconnected) {
+      if (Clock::now() < c.reconnect_at) {
+        std::this_thread::sleep_for(
+            std::min<Clock::duration>(end - Clock::now(), c.reconnect_at - Clock::now()));
+        continue;
+      }
+      c.connect();
+      if (!c.fatal.empty()) return;
+    }
+    zmq::pollitem_t items[] = {{c.socket->handle(), 0, ZMQ_POLLIN, 0}};
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - Clock::now());
+    zmq::poll(
+        items, 1,
+        std::max(std::chrono::milliseconds(0), std::min(left, std::chrono::milliseconds(50))));
+    c.receive();
+    if (!c.fatal.empty()) return;
+    if (secondsSince(c.last_heard) > c.options.heartbeat_s * c.options.missed_heartbeats) {
+      c.disconnect(c.state == Impl::State::kWelcomed ? "the station is silent"
+                                                     : "no WELCOME from the station");
+      continue;
+    }
+    if (c.state == Impl::State::kWelcomed) c.sendUpdates();
+    if (secondsSince(c.last_sent) >= c.options.heartbeat_s) c.send(heartbeat());
+  } while (Clock::now() < end);
+}
+
+bool RobotClient::finish(std::chrono::milliseconds timeout) {
+  Impl& c = *impl_;
+  const Clock::time_point end = Clock::now() + timeout;
+  while (!c.outbox.empty() && c.fatal.empty() && Clock::now() < end)
+    pump(std::chrono::milliseconds(50));
+  if (!c.outbox.empty() || !c.fatal.empty() || c.state != Impl::State::kWelcomed) return false;
+  c.send(bye());
+  // Give the BYE time to leave before the socket closes (linger is 0).
+  pump(std::chrono::milliseconds(100));
+  return true;
+}
+
+size_t RobotClient::unacknowledged() const { return impl_->outbox.size(); }
+bool RobotClient::welcomed() const { return impl_->state == Impl::State::kWelcomed; }
+const std::string& RobotClient::fatal() const { return impl_->fatal; }
+const RobotClientCounts& RobotClient::counts() const { return impl_->counts; }
+
+}  // namespace hydra_multi::net

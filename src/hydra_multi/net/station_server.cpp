@@ -1,0 +1,262 @@
+#include "hydra_multi/net/station_server.h"
+
+#include <chrono>
+#include <set>
+#include <zmq.hpp>
+#include <zmq_addon.hpp>
+
+#include "hydra_multi/dsg/io/binary_format.h"
+#include "hydra_multi/net/protocol.h"
+
+namespace hydra_multi::net {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// A connection: what its HELLO said, and when it was last heard and sent to.
+struct Session {
+  size_t number = 0;  // for logs: "connection 3"
+  bool welcomed = false;
+  RobotId robot;
+  uint64_t epoch = 0;
+  Clock::time_point last_heard = Clock::now(), last_sent = Clock::now();
+};
+
+// The updates of a robot the station holds: every one before `next`, and those in `ahead`.
+struct Held {
+  uint64_t next = 0;
+  std::set<uint64_t> ahead;
+  bool has(uint64_t sequence) const { return sequence < next || ahead.count(sequence) > 0; }
+  void add(uint64_t sequence, bool snapshot) {
+    if (snapshot && sequence >= next) {  // a snapshot stands for everything before it
+      next = sequence + 1;
+      ahead.erase(ahead.begin(), ahead.lower_bound(next));
+    } else {
+      ahead.insert(sequence);
+    }
+    while (!ahead.empty() && *ahead.begin() <= next) {
+      if (*ahead.begin() == next) ++next;
+      ahead.erase(ahead.begin());
+    }
+  }
+};
+
+}  // namespace
+
+struct StationServer::Impl {
+  Impl(Station& s, StationServerOptions o)
+      : station(s), options(std::move(o)), socket(context, zmq::socket_type::router) {}
+
+  void log(const std::string& line) const {
+    if (options.log) options.log(line);
+  }
+  void send(const std::string& id, Session& session, const Message& message);
+  void refuse(const std::string& id, Session& session, const std::string& category,
+              const std::string& reason, uint64_t sequence = kNoSequence);
+  void handle(const std::string& id, const std::vector<std::string>& frames);
+  void onHello(const std::string& id, Session& session, const Message& m);
+  void onUpdate(const std::string& id, Session& session, const Message& m);
+  void housekeeping();
+  std::string who(const Session& s) const {
+    return "connection " + std::to_string(s.number) +
+           (s.welcomed ? " (robot " + s.robot.str() + ")" : std::string());
+  }
+
+  Station& station;
+  StationServerOptions options;
+  zmq::context_t context;
+  zmq::socket_t socket;
+  std::string endpoint;
+  std::map<std::string, Session> sessions;  // by ZeroMQ routing id
+  size_t connections = 0;
+  std::map<RobotId, Held> held;
+  StationServerCounts counts;
+};
+
+void StationServer::Impl::send(const std::string& id, Session& session, const Message& message) {
+  std::vector<zmq::message_t> parts;
+  parts.emplace_back(id.data(), id.size());
+  for (const std::string& frame : encodeMessage(message))
+    parts.emplace_back(frame.data(), frame.size());
+  // A peer that went away, or whose queue is full, misses this message; the protocol recovers.
+  (void)zmq::send_multipart(socket, parts, zmq::send_flags::dontwait);
+  session.last_sent = Clock::now();
+}
+
+void StationServer::Impl::refuse(const std::string& id, Session& session,
+                                 const std::string& category, const std::string& reason,
+                                 uint64_t sequence) {
+  ++counts.refused[category];
+  log("station: refused a message from " + who(session) + ": " + reason);
+  send(id, session, net::refuse(reason, session.epoch, sequence));
+}
+
+void StationServer::Impl::onHello(const std::string& id, Session& session, const Message& m) {
+  // Another live connection of the same robot is taken over by this one (a robot that
+  // reconnected before the station noticed the old connection was gone).
+  for (auto it = sessions.begin(); it != sessions.end();) {
+    if (it->first != id && it->second.welcomed && it->second.robot == m.robot) {
+      log("station: robot " + m.robot.str() + " connected again; " + who(it->second) +
+          " is closed");
+      it = sessions.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  session.welcomed = true;
+  session.robot = m.robot;
+  session.epoch = m.epoch;
+  RobotLinkCounts& robot = counts.robots[m.robot];
+  ++robot.connections;
+  robot.said_bye = false;
+  const uint64_t next = held[m.robot].next;
+  log("station: robot " + m.robot.str() + " connected (" + who(session) + ", epoch " +
+      std::to_string(m.epoch) + "), next update " + std::to_string(next));
+  send(id, session, welcome(next));
+}
+
+void StationServer::Impl::onUpdate(const std::string& id, Session& session, const Message& m) {
+  if (!session.welcomed)
+    return refuse(id, session, "no_hello",
+                  "UPDATE " + std::to_string(m.sequence) + " before HELLO on this connection",
+                  m.sequence);
+  auto decoded = io::decodeRobotUpdateBinary(m.payload);
+  if (!decoded)
+    return refuse(id, session, "bad_payload",
+                  "UPDATE " + std::to_string(m.sequence) + ": payload: " + decoded.error(),
+                  m.sequence);
+  const RobotUpdate& u = decoded.value();
+  if (u.robot != session.robot)
+    return refuse(id, session, "wrong_robot",
+                  "UPDATE " + std::to_string(m.sequence) + " is robot " + u.robot.str() +
+                      "'s, this connection speaks for robot " + session.robot.str(),
+                  m.sequence);
+  if (u.sequence != m.sequence)
+    return refuse(
+        id, session, "malformed",
+        "UPDATE " + std::to_string(m.sequence) + " carries update " + std::to_string(u.sequence),
+        m.sequence);
+  RobotLinkCounts& robot = counts.robots[session.robot];
+  Held& h = held[session.robot];
+  if (h.has(u.sequence)) {
+    ++robot.duplicates;
+  } else {
+    const bool snapshot = u.is_snapshot;
+    station.submit(std::move(decoded).value());
+    ++robot.updates;
+    h.add(m.sequence, snapshot);
+  }
+  robot.next_sequence = h.next;
+  send(id, session, ack(session.epoch, m.sequence, h.next));
+}
+
+void StationServer::Impl::handle(const std::string& id, const std::vector<std::string>& frames) {
+  auto [it, added] = sessions.try_emplace(id);
+  Session& session = it->second;
+  if (added) session.number = ++connections;
+  session.last_heard = Clock::now();
+  size_t bytes = 0;
+  for (const std::string& f : frames) bytes += f.size();
+  counts.bytes += bytes;
+  if (session.welcomed) counts.robots[session.robot].bytes += bytes;
+  if (bytes > options.max_message_bytes)
+    return refuse(id, session, "too_large",
+                  "a message of " + std::to_string(bytes) + " bytes, more than the limit of " +
+                      std::to_string(options.max_message_bytes));
+  auto message = decodeMessage(frames);
+  if (!message) {
+    const bool version = !frames.empty() && frames[0].size() >= 3 &&
+                         frames[0].compare(0, 2, "HM") == 0 &&
+                         static_cast<uint8_t>(frames[0][2]) != kProtocolVersion;
+    return refuse(id, session, version ? "version" : "malformed", message.error());
+  }
+  const Message& m = message.value();
+  switch (m.type) {
+    case MessageType::kHello:
+      return onHello(id, session, m);
+    case MessageType::kUpdate:
+      return onUpdate(id, session, m);
+    case MessageType::kHeartbeat:
+      return;
+    case MessageType::kBye:
+      if (!session.welcomed) return refuse(id, session, "no_hello", "BYE before HELLO");
+      counts.robots[session.robot].said_bye = true;
+      log("station: robot " + session.robot.str() + " said BYE (" +
+          std::to_string(counts.robots[session.robot].updates) + " updates)");
+      sessions.erase(id);
+      return;
+    default:
+      return refuse(id, session, "malformed",
+                    std::string(messageTypeName(m.type)) + " is the station's to send");
+  }
+}
+
+void StationServer::Impl::housekeeping() {
+  const double gone_s = options.heartbeat_s * options.missed_heartbeats;
+  for (auto it = sessions.begin(); it != sessions.end();) {
+    Session& s = it->second;
+    if (secondsSince(s.last_heard) > gone_s) {
+      log("station: " + who(s) + " silent for " + std::to_string(static_cast<int>(gone_s)) +
+          " s, taken as gone");
+      it = sessions.erase(it);
+      continue;
+    }
+    if (secondsSince(s.last_sent) >= options.heartbeat_s) send(it->first, s, heartbeat());
+    ++it;
+  }
+}
+
+Result<std::unique_ptr<StationServer>> StationServer::create(Station& station,
+                                                             StationServerOptions options) {
+  auto impl = std::make_unique<Impl>(station, std::move(options));
+  try {
+    impl->socket.set(zmq::sockopt::linger, 0);
+    // A hard cap well above the refusal limit: libzmq drops larger messages (and their sender)
+    // before they reach the station, which could not say why.
+    impl->socket.set(zmq::sockopt::maxmsgsize,
+                     static_cast<int64_t>(2 * impl->options.max_message_bytes + (1 << 20)));
+    impl->socket.bind(impl->options.listen);
+    impl->endpoint = impl->socket.get(zmq::sockopt::last_endpoint);
+  } catch (const zmq::error_t& e) {
+    return Error{impl->options.listen + ": cannot listen: " + e.what()};
+  }
+  return std::unique_ptr<StationServer>(new StationServer(std::move(impl)));
+}
+
+StationServer::StationServer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+StationServer::~StationServer() = default;
+
+const std::string& StationServer::endpoint() const { return impl_->endpoint; }
+const StationServerCounts& StationServer::counts() const { return impl_->counts; }
+
+void StationServer::serve(const std::function<bool()>& stop, size_t expect_robots) {
+  Impl& s = *impl_;
+  const auto byes = [&] {
+    size_t n = 0;
+    for (const auto& [robot, c] : s.counts.robots) n += c.said_bye ? 1 : 0;
+    return n;
+  };
+  while (!(stop && stop())) {
+    zmq::pollitem_t items[] = {{s.socket.handle(), 0, ZMQ_POLLIN, 0}};
+    zmq::poll(items, 1, std::chrono::milliseconds(100));
+    // Everything that arrived, a bounded number at a time so that heartbeats still go out.
+    for (int i = 0; i < 1000; ++i) {
+      std::vector<zmq::message_t> parts;
+      if (!zmq::recv_multipart(s.socket, std::back_inserter(parts), zmq::recv_flags::dontwait))
+        break;
+      if (parts.empty()) continue;
+      const std::string id = parts.front().to_string();
+      std::vector<std::string> frames;
+      for (size_t k = 1; k < parts.size(); ++k) frames.push_back(parts[k].to_string());
+      s.handle(id, frames);
+    }
+    s.housekeeping();
+    if (expect_robots > 0 && byes() >= expect_robots) break;
+  }
+}
+
+}  // namespace hydra_multi::net

@@ -1,0 +1,68 @@
+#pragma once
+// The station's network input (docs/PROTOCOL.md): a ZeroMQ ROUTER socket that robots' DEALERs
+// connect to. A connection says HELLO (robot, epoch) and is welcomed with the sequence the
+// station expects next from that robot; each UPDATE it sends is checked (size, version, framing,
+// the payload decodes, the payload's robot and sequence are the connection's), handed to the
+// Station, and answered with a cumulative ACK; an update held already is acknowledged and not
+// handed on twice. Whatever is refused is answered with REFUSE and its reason, logged and counted;
+// it never stops the station. Heartbeats go both ways; a robot silent for `missed_heartbeats`
+// beats is taken as gone (its updates stay; it may come back). ZeroMQ stays inside this unit.
+//
+// Durability: an ACK means the update is on the Station's ingest queue, not yet on disk (the
+// journal is missing: README).
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "hydra_multi/core/result.h"
+#include "hydra_multi/station/station.h"
+
+namespace hydra_multi::net {
+
+struct StationServerOptions {
+  std::string listen = "tcp://127.0.0.1:*";  ///< ZeroMQ endpoint; a '*' port picks a free one
+  size_t max_message_bytes = 64u << 20;      ///< larger messages are refused
+  double heartbeat_s = 1.0;
+  int missed_heartbeats = 3;  ///< silent for this many beats: gone
+  std::function<void(const std::string&)> log;
+};
+
+/// What became of one robot's messages (over all its connections).
+struct RobotLinkCounts {
+  size_t updates = 0;      ///< updates handed to the station
+  size_t duplicates = 0;   ///< updates held already (resent after a reconnect), acknowledged
+  size_t connections = 0;  ///< HELLOs accepted
+  size_t bytes = 0;        ///< of every message from it
+  bool said_bye = false;
+  uint64_t next_sequence = 0;  ///< every update before it is held
+};
+
+struct StationServerCounts {
+  std::map<RobotId, RobotLinkCounts> robots;
+  std::map<std::string, size_t> refused;  ///< by reason: malformed, too_large, ... (PROTOCOL.md)
+  size_t bytes = 0;                       ///< of every message received
+};
+
+class StationServer {
+ public:
+  /// Binds the socket; an error names the endpoint.
+  static Result<std::unique_ptr<StationServer>> create(Station& station,
+                                                       StationServerOptions options);
+  ~StationServer();
+
+  /// The endpoint bound, with the port a '*' picked ("tcp://127.0.0.1:40123").
+  const std::string& endpoint() const;
+  /// Serves until `stop()` is true (asked every 100 ms) or `expect_robots` robots (0: no limit)
+  /// have said BYE.
+  void serve(const std::function<bool()>& stop, size_t expect_robots = 0);
+  const StationServerCounts& counts() const;
+
+ private:
+  struct Impl;
+  explicit StationServer(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hydra_multi::net

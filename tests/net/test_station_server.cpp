@@ -1,0 +1,246 @@
+// The station's network input and a robot's client on loopback: a robot's whole stream arrives,
+// each update once; hostile and broken messages are refused with their reason while a robot goes
+// on; a robot that starts before the station, or whose station restarts, connects when it can and
+// loses nothing. Every test is bounded in time (a few seconds) and uses 127.0.0.1 only.
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <thread>
+#include <zmq.hpp>
+#include <zmq_addon.hpp>
+
+#include "hydra_multi/dsg/io/binary_format.h"
+#include "hydra_multi/net/protocol.h"
+#include "hydra_multi/net/robot_client.h"
+#include "hydra_multi/net/station_server.h"
+#include "hydra_multi/sim/dataset.h"
+
+namespace hydra_multi::net {
+namespace {
+
+using namespace std::chrono_literals;
+
+const RobotId kA(0), kB(1);
+
+const sim::SimulatedDataset& tiny() {
+  static const sim::SimulatedDataset dataset =
+      sim::simulateDataset(sim::presetConfig("tiny", 1).value()).value();
+  return dataset;
+}
+
+// A station and its server, serving in a thread until stop() or the expected BYEs.
+class Served {
+ public:
+  explicit Served(size_t expect_robots, StationServerOptions options = {})
+      : station_(StationOptions{}) {
+    options.log = [this](const std::string& line) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      log_.push_back(line);
+    };
+    server_ = StationServer::create(station_, options).value();
+    thread_ = std::thread([this, expect_robots] {
+      server_->serve([this] { return stop_.load(); }, expect_robots);
+      finished_ = true;
+    });
+  }
+  ~Served() { stop(); }
+  const std::string& endpoint() const { return server_->endpoint(); }
+  void stop() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+  }
+  // Waits for the serving thread to end by itself (the expected BYEs), at most `timeout`.
+  bool ended(std::chrono::milliseconds timeout) {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    while (!done() && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(10ms);
+    return done();
+  }
+  StationResult finish() {
+    stop();
+    return station_.finish();
+  }
+  const StationServerCounts& counts() const { return server_->counts(); }
+  std::vector<std::string> log() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return log_;
+  }
+
+ private:
+  bool done() {
+    // serve() returned: the thread is ready to join.
+    if (!thread_.joinable()) return true;
+    if (!finished_.load()) return false;
+    thread_.join();
+    return true;
+  }
+  Station station_;
+  std::unique_ptr<StationServer> server_;
+  std::atomic<bool> stop_{false}, finished_{false};
+  std::thread thread_;
+  std::mutex mutex_;
+  std::vector<std::string> log_;
+};
+
+// Sends robot `r`'s whole stream and says BYE; false if it could not within `timeout`.
+bool sendStream(RobotClient& client, size_t r, std::chrono::milliseconds timeout = 10s) {
+  for (const RobotUpdate& u : tiny().streams[r]) {
+    while (!client.enqueue(u)) client.pump(10ms);
+    client.pump(0ms);
+  }
+  return client.finish(timeout);
+}
+
+RobotClientOptions clientOptions(const std::string& endpoint) {
+  RobotClientOptions options;
+  options.connect = endpoint;
+  options.backoff_min_s = 0.05;
+  options.backoff_max_s = 0.2;
+  options.heartbeat_s = 0.2;
+  return options;
+}
+
+// Both robots of the tiny team over loopback: every update handed to the station once, all
+// applied, both robots aligned.
+TEST(StationServer, TwoRobotsStreamTheirMaps) {
+  Served served(2);
+  std::vector<std::thread> robots;
+  std::atomic<int> finished{0};
+  for (size_t r = 0; r < 2; ++r) {
+    robots.emplace_back([&, r] {
+      RobotClient client(RobotId(static_cast<uint8_t>(r)), kProvidesAll,
+                         clientOptions(served.endpoint()));
+      if (sendStream(client, r)) ++finished;
+    });
+  }
+  for (std::thread& t : robots) t.join();
+  EXPECT_EQ(finished.load(), 2);
+  const StationResult result = served.finish();
+  const size_t total = tiny().streams[0].size() + tiny().streams[1].size();
+  EXPECT_EQ(result.counts.offered, total);
+  EXPECT_EQ(result.counts.appliedTotal(), total);
+  EXPECT_EQ(result.aligned.size(), 2u);
+  EXPECT_EQ(served.counts().robots.at(kA).updates, tiny().streams[0].size());
+  EXPECT_TRUE(served.counts().robots.at(kB).said_bye);
+  EXPECT_TRUE(served.counts().refused.empty());
+}
+
+// A raw connection's messages, and the station's answers.
+class RawPeer {
+ public:
+  explicit RawPeer(const std::string& endpoint) : socket_(context_, zmq::socket_type::dealer) {
+    socket_.set(zmq::sockopt::linger, 0);
+    socket_.connect(endpoint);
+  }
+  void send(const std::vector<std::string>& frames) {
+    std::vector<zmq::message_t> parts;
+    for (const std::string& f : frames) parts.emplace_back(f.data(), f.size());
+    ASSERT_TRUE(zmq::send_multipart(socket_, parts));
+  }
+  // The next message that is not a heartbeat, within 2 s.
+  Message next() {
+    const auto end = std::chrono::steady_clock::now() + 2s;
+    while (std::chrono::steady_clock::now() < end) {
+      zmq::pollitem_t items[] = {{socket_.handle(), 0, ZMQ_POLLIN, 0}};
+      zmq::poll(items, 1, 50ms);
+      std::vector<zmq::message_t> parts;
+      if (!zmq::recv_multipart(socket_, std::back_inserter(parts), zmq::recv_flags::dontwait))
+        continue;
+      std::vector<std::string> frames;
+      for (auto& p : parts) frames.push_back(p.to_string());
+      auto m = decodeMessage(frames);
+      if (m && m.value().type != MessageType::kHeartbeat) return m.value();
+    }
+    ADD_FAILURE() << "no answer from the station";
+    return Message{};
+  }
+
+ private:
+  zmq::context_t context_;
+  zmq::socket_t socket_;
+};
+
+std::string payloadOf(size_t robot, size_t index) {
+  return io::encodeRobotUpdateBinary(tiny().streams[robot][index]);
+}
+
+// Garbage, another version, an update before HELLO, a robot speaking for another, an update whose
+// payload does not decode and an oversized message: each refused with its reason and counted,
+// while robot b streams its whole map beside them.
+TEST(StationServer, RefusesHostileMessagesWhileOthersGoOn) {
+  StationServerOptions options;
+  options.max_message_bytes = 1 << 20;
+  Served served(0, options);
+  std::thread robot_b([&] {
+    RobotClient client(kB, kProvidesAll, clientOptions(served.endpoint()));
+    EXPECT_TRUE(sendStream(client, 1));
+  });
+  RawPeer peer(served.endpoint());
+  peer.send({"garbage"});
+  Message m = peer.next();
+  EXPECT_EQ(m.type, MessageType::kRefuse);
+  EXPECT_EQ(m.text, "frame 0: not a hydra-multi message (no \"HM\" header)");
+  std::vector<std::string> v9 = encodeMessage(heartbeat());
+  v9[0][2] = 9;
+  peer.send(v9);
+  EXPECT_EQ(peer.next().text, "frame 0: protocol version 9, this station speaks 1");
+  peer.send(encodeMessage(update(1, 0, payloadOf(0, 0))));
+  m = peer.next();
+  EXPECT_EQ(m.text, "UPDATE 0 before HELLO on this connection");
+  EXPECT_EQ(m.sequence, 0u);
+  peer.send(encodeMessage(hello(kA, 1, kProvidesAll)));
+  EXPECT_EQ(peer.next().type, MessageType::kWelcome);
+  peer.send(encodeMessage(update(1, 0, payloadOf(1, 0))));  // robot b's update over a's link
+  EXPECT_EQ(peer.next().text, "UPDATE 0 is robot b's, this connection speaks for robot a");
+  std::string broken = payloadOf(0, 0);
+  broken[broken.size() / 2] ^= 0x40;
+  peer.send(encodeMessage(update(1, 0, broken)));
+  m = peer.next();
+  EXPECT_EQ(m.text.rfind("UPDATE 0: payload: ", 0), 0u) << m.text;
+  peer.send(encodeMessage(update(1, 5, std::string(1 << 21, 'x'))));
+  EXPECT_EQ(peer.next().text, "a message of 2097172 bytes, more than the limit of 1048576");
+  // The same connection, well-behaved now: its update is taken and acknowledged.
+  peer.send(encodeMessage(update(1, 0, payloadOf(0, 0))));
+  m = peer.next();
+  EXPECT_EQ(m.type, MessageType::kAck);
+  EXPECT_EQ(m.next_sequence, 1u);
+  robot_b.join();
+  const StationResult result = served.finish();
+  const std::map<std::string, size_t> refused = {{"bad_payload", 1}, {"malformed", 1},
+                                                 {"no_hello", 1},    {"too_large", 1},
+                                                 {"version", 1},     {"wrong_robot", 1}};
+  EXPECT_EQ(served.counts().refused, refused);
+  EXPECT_EQ(result.counts.appliedTotal(), tiny().streams[1].size() + 1);
+  size_t logged = 0;
+  for (const std::string& line : served.log())
+    logged += line.find("refused a message") != std::string::npos;
+  EXPECT_EQ(logged, 6u);
+}
+
+// A robot that starts before its station keeps its updates, tries again with its backoff, and
+// once the station is up is welcomed and sends them all: none is lost.
+TEST(StationServer, RobotWaitsAndReconnects) {
+  // A free port on loopback.
+  std::string endpoint;
+  {
+    Station probe{StationOptions{}};
+    endpoint = StationServer::create(probe, {}).value()->endpoint();
+  }
+  RobotClient client(kA, kProvidesAll, clientOptions(endpoint));
+  const std::vector<RobotUpdate>& stream = tiny().streams[0];
+  for (const RobotUpdate& u : stream) ASSERT_TRUE(client.enqueue(u));
+  client.pump(300ms);  // nobody there yet
+  EXPECT_FALSE(client.welcomed());
+  StationServerOptions options;
+  options.listen = endpoint;
+  Served served(1, options);
+  EXPECT_TRUE(client.finish(10s));
+  EXPECT_TRUE(served.ended(5s));
+  const StationResult result = served.finish();
+  EXPECT_EQ(result.counts.appliedTotal(), stream.size());
+  EXPECT_GE(client.counts().connections, 1u);
+  EXPECT_EQ(client.counts().acknowledged, stream.size());
+}
+
+}  // namespace
+}  // namespace hydra_multi::net
