@@ -111,8 +111,11 @@ TEST(Station, InputsFromSeveralThreads) {
   std::vector<std::thread> inputs;
   for (const RobotId robot : streams.robots) {
     inputs.emplace_back([&station, &streams, robot] {
-      for (const RobotUpdate& u : streams.updates)
-        if (u.robot == robot) ASSERT_TRUE(station.submit(u));
+      for (const RobotUpdate& u : streams.updates) {
+        if (u.robot == robot) {
+          ASSERT_TRUE(station.submit(u));
+        }
+      }
     });
   }
   for (std::thread& input : inputs) input.join();
