@@ -9,7 +9,7 @@ DATA ?= ../shared/data
 
 CMAKE_FLAGS = -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DHYDRA_MULTI_WERROR=$(WERROR)
 
-.PHONY: all deps build test test-sanitize demo bench bench-robust bench-sim bench-frontend bench-backend format clean
+.PHONY: all deps build test test-sanitize demo bench bench-robust bench-sim bench-frontend bench-backend bench-journal format clean
 
 all: build
 
@@ -57,6 +57,11 @@ bench-frontend: build
 DATASET ?= out/demo/office-3
 bench-backend: build
 	@$(BUILD_DIR)/bench/bench_backend $(DATASET) $(if $(CONFIG),--config $(CONFIG))
+
+# The station's journal appending a dataset's updates with synchronous=FULL and =NORMAL
+# (DATASET=DIR).
+bench-journal: build
+	@$(BUILD_DIR)/bench/bench_journal $(DATASET)
 
 demo: build
 	@./scripts/demo.sh $(BUILD_DIR)/hydra-multi $(DATA) $(DEMO_OUT)

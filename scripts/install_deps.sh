@@ -12,6 +12,7 @@ packages=(
   libnanoflann-dev     # core: KD-tree nearest neighbours
   libgtest-dev libgmock-dev  # tests
   libzmq3-dev cppzmq-dev     # net: robots and station over ZeroMQ
+  libsqlite3-dev             # store: the station's journal
 )
 
 missing=()

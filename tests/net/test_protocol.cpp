@@ -29,11 +29,12 @@ TEST(Protocol, EveryTypeRoundTrips) {
   EXPECT_EQ(h.epoch, 77u);
   EXPECT_EQ(h.provided_layers, kProvidesAgents | kProvidesMesh);
   EXPECT_EQ(roundTrip(welcome(12)).next_sequence, 12u);
-  const Message r = roundTrip(refuse("no", 5, 9));
+  const Message r = roundTrip(refuse(RefuseCode::kWrongRobot, "no", 5, 9));
+  EXPECT_EQ(r.code, RefuseCode::kWrongRobot);
   EXPECT_EQ(r.text, "no");
   EXPECT_EQ(r.epoch, 5u);
   EXPECT_EQ(r.sequence, 9u);
-  EXPECT_EQ(roundTrip(refuse("no")).sequence, kNoSequence);
+  EXPECT_EQ(roundTrip(refuse(RefuseCode::kNoHello, "no")).sequence, kNoSequence);
   const Message u = roundTrip(update(3, 41, std::string("pay\0load", 8)));
   EXPECT_EQ(u.epoch, 3u);
   EXPECT_EQ(u.sequence, 41u);
@@ -65,6 +66,9 @@ TEST(Protocol, RefusesWhatDoesNotFit) {
   EXPECT_EQ(refusal({frames[0].substr(0, 10), "x"}),
             "frame 0: UPDATE: a header of 10 bytes, not 20");
   EXPECT_EQ(refusal({frames[0]}), "UPDATE: 1 frames, not 2");
+  std::vector<std::string> refused = encodeMessage(refuse(RefuseCode::kVersion, "x"));
+  refused[0].back() = 42;
+  EXPECT_EQ(refusal(refused), "frame 0: REFUSE: unknown refusal code 42");
   const std::string hello_header = encodeMessage(hello(kB, 1, 0))[0];
   EXPECT_EQ(refusal({hello_header, "{"}), "frame 1: HELLO: not a JSON object");
   EXPECT_EQ(refusal({hello_header, R"({"epoch": 1})"}), "frame 1: HELLO: no robot name");
@@ -81,7 +85,7 @@ TEST(Protocol, RefusesWhatDoesNotFit) {
 TEST(Protocol, MutatedFramesNeverCrash) {
   const std::vector<std::vector<std::string>> valid = {encodeMessage(hello(kB, 7, kProvidesAll)),
                                                        encodeMessage(welcome(3)),
-                                                       encodeMessage(refuse("why", 1, 2)),
+                                                       encodeMessage(refuse(RefuseCode::kMalformed, "why", 1, 2)),
                                                        encodeMessage(update(1, 2, "payload")),
                                                        encodeMessage(ack(1, 2, 3)),
                                                        encodeMessage(heartbeat()),

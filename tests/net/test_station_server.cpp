@@ -187,7 +187,8 @@ TEST(StationServer, RefusesHostileMessagesWhileOthersGoOn) {
   peer.send(encodeMessage(update(1, 0, payloadOf(0, 0))));
   m = peer.next();
   EXPECT_EQ(m.text, "UPDATE 0 before HELLO on this connection");
-  EXPECT_EQ(m.sequence, 0u);
+  EXPECT_EQ(m.sequence, kNoSequence);  // a request to say HELLO, not a refusal of the update
+  EXPECT_EQ(m.code, RefuseCode::kNoHello);
   peer.send(encodeMessage(hello(kA, 1, kProvidesAll)));
   EXPECT_EQ(peer.next().type, MessageType::kWelcome);
   peer.send(encodeMessage(update(1, 0, payloadOf(1, 0))));  // robot b's update over a's link

@@ -133,6 +133,7 @@ struct StationCommandOptions {
   std::string config;                           ///< station configuration file (JSON)
   size_t expect_robots = 0;  ///< end once this many robots said BYE (0: at SIGINT/SIGTERM)
   double max_message_mb = 64.0;
+  std::string durability = "full";  ///< full | normal: the journal's SQLite synchronous setting
   bool quiet = false;
 };
 int runStationCommand(const StationCommandOptions& options);

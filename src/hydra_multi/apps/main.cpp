@@ -228,6 +228,12 @@ int main(int argc, char** argv) {
   cli.real(station_cmd, "--max-message-mb", station.max_message_mb, "larger messages are refused",
            {0.0, 4096.0, true})
       ->capture_default_str();
+  station_cmd
+      ->add_option("--durability", station.durability,
+                   "the journal's SQLite synchronous setting: full (every commit synced) or normal "
+                   "(synced at checkpoints: survives a crash of the station, not of the machine)")
+      ->check(CLI::IsMember({"full", "normal"}))
+      ->capture_default_str();
   station_cmd->add_flag("--quiet", station.quiet, "no progress lines on stderr");
 
   RobotCommandOptions robot;

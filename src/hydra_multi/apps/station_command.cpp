@@ -5,8 +5,12 @@
 // (the station never reads ground truth: `evaluate --dataset D --result DIR/graph.json` does),
 // plus DIR/station.json (what became of every robot's messages and updates) and DIR/endpoint (the
 // endpoint bound, written as soon as it is: a ':*' port picks a free one).
+// Every update it accepts goes to DIR/journal.sqlite (store/journal.h) before it is acknowledged;
+// started on a DIR that holds a journal, the station first replays it, so that a station that was
+// killed loses nothing it acknowledged and its robots resend only the rest.
 
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -16,8 +20,10 @@
 
 #include "hydra_multi/apps/commands.h"
 #include "hydra_multi/apps/station_outputs.h"
+#include "hydra_multi/dsg/io/binary_format.h"
 #include "hydra_multi/net/station_server.h"
 #include "hydra_multi/station/station_config.h"
+#include "hydra_multi/store/journal.h"
 
 namespace hydra_multi::apps {
 namespace {
@@ -48,8 +54,38 @@ int runStationCommand(const StationCommandOptions& o) {
   server_options.listen = o.listen;
   server_options.max_message_bytes = static_cast<size_t>(o.max_message_mb * (1 << 20));
   server_options.log = log;
+  const std::string journal_path = (fs::path(o.out) / "journal.sqlite").string();
+  auto journal =
+      store::Journal::open(journal_path, o.durability == "normal" ? store::Durability::kNormal
+                                                                  : store::Durability::kFull);
+  if (!journal) return fail(journal.error());
+  server_options.persist = [&journal](const RobotUpdate& u, uint64_t epoch,
+                                      const std::string& payload) {
+    const int64_t now = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                            std::chrono::system_clock::now().time_since_epoch())
+                            .count();
+    return journal.value()->append({u.robot, epoch, u.sequence, payload, now});
+  };
   auto server = net::StationServer::create(station, server_options);
   if (!server) return fail(server.error());
+  // What an earlier station on this folder acknowledged, before any robot is heard.
+  size_t replayed = 0, unreadable = 0;
+  const Status read = journal.value()->replay([&](store::JournalEntry&& e) {
+    auto u = io::decodeRobotUpdateBinary(e.payload);
+    if (!u || u.value().robot != e.robot || u.value().sequence != e.sequence) {
+      ++unreadable;
+      log("station: " + journal_path + ": update " + std::to_string(e.sequence) + " of robot " +
+          e.robot.str() + " does not decode; left out" + (u ? "" : ": " + u.error()));
+      return;
+    }
+    server.value()->hold(e.robot, e.sequence, u.value().is_snapshot);
+    station.submit(std::move(u).value());
+    ++replayed;
+  });
+  if (!read) return fail(read.message());
+  if (replayed + unreadable > 0)
+    std::cerr << "station: resumed from " << journal_path << ": " << replayed << " updates replayed"
+              << (unreadable ? ", " + std::to_string(unreadable) + " left out" : "") << std::endl;
   const std::string endpoint = server.value()->endpoint();
   std::ofstream(fs::path(o.out) / "endpoint") << endpoint << "\n";
   std::cerr << "station: listening on " << endpoint << " (no authentication: any peer that "
@@ -90,6 +126,10 @@ int runStationCommand(const StationCommandOptions& o) {
                                           {"updates_rejected", result.counts.rejected},
                                           {"updates_behind_gap", result.counts.behindGap()},
                                           {"bytes_received", counts.bytes},
+                                          {"journal", journal_path},
+                                          {"journal_entries", journal.value()->size()},
+      {"journal_integrity", journal.value()->integrityCheck()},
+                                          {"updates_replayed", replayed},
                                           {"backend_rounds", result.rounds.size()},
                                           {"frontend_ms_p50", times.frontend_ms_p50},
                                           {"backend_ms_p50", times.backend_ms_p50},
@@ -107,7 +147,8 @@ int runStationCommand(const StationCommandOptions& o) {
             << "  robots aligned        " << result.aligned.size() << " of " << result.robots
             << "; global frame: robot " << result.global_robot.str() << "'s\n"
             << "outputs in " << o.out
-            << ": graph.json, graph.spark.json, mesh.ply, timing.csv, config.json, station.json\n";
+            << ": graph.json, graph.spark.json, mesh.ply, timing.csv, config.json, station.json, "
+               "journal.sqlite\n";
   return 0;
 }
 

@@ -15,10 +15,11 @@ constexpr size_t kHeaderBytes = 4;      // "HM", version, type
 constexpr size_t kMaxJsonBytes = 4096;  // HELLO, WELCOME
 constexpr size_t kMaxReasonBytes = 4096;
 
-// Bytes of fixed fields after the 4 header bytes: UPDATE and REFUSE epoch and sequence; ACK those
-// and the next sequence.
+// Bytes of fixed fields after the 4 header bytes: UPDATE epoch and sequence; REFUSE those and its
+// code; ACK those and the next sequence.
 size_t fixedFieldBytes(MessageType type) {
-  if (type == MessageType::kUpdate || type == MessageType::kRefuse) return 16;
+  if (type == MessageType::kUpdate) return 16;
+  if (type == MessageType::kRefuse) return 17;
   if (type == MessageType::kAck) return 24;
   return 0;
 }
@@ -46,6 +47,7 @@ std::string header(const Message& m) {
     w.u64(m.sequence);
   }
   if (m.type == MessageType::kAck) w.u64(m.next_sequence);
+  if (m.type == MessageType::kRefuse) w.u8(static_cast<uint8_t>(m.code));
   return w.release();
 }
 
@@ -104,6 +106,26 @@ const char* messageTypeName(MessageType type) {
   return "?";
 }
 
+const char* refuseCodeName(RefuseCode code) {
+  switch (code) {
+    case RefuseCode::kTooLarge:
+      return "too_large";
+    case RefuseCode::kVersion:
+      return "version";
+    case RefuseCode::kMalformed:
+      return "malformed";
+    case RefuseCode::kNoHello:
+      return "no_hello";
+    case RefuseCode::kWrongRobot:
+      return "wrong_robot";
+    case RefuseCode::kBadPayload:
+      return "bad_payload";
+    case RefuseCode::kNotStored:
+      return "not_stored";
+  }
+  return "?";
+}
+
 Message hello(RobotId robot, uint64_t epoch, uint32_t provided_layers) {
   Message m;
   m.type = MessageType::kHello;
@@ -121,9 +143,10 @@ Message welcome(uint64_t next_sequence) {
   return m;
 }
 
-Message refuse(std::string reason, uint64_t epoch, uint64_t sequence) {
+Message refuse(RefuseCode code, std::string reason, uint64_t epoch, uint64_t sequence) {
   Message m;
   m.type = MessageType::kRefuse;
+  m.code = code;
   m.text = std::move(reason);
   m.epoch = epoch;
   m.sequence = sequence;
@@ -202,13 +225,24 @@ Result<Message> decodeMessage(const std::vector<std::string>& frames) {
   if (frames.size() != 1 + bodyFrames(m.type))
     return Error{name + ": " + std::to_string(frames.size()) + " frames, not " +
                  std::to_string(1 + bodyFrames(m.type))};
-  try {
+  try {  // the header's fixed fields
     if (fixedFieldBytes(m.type) > 0) {
       io::ByteReader r(std::string_view(head).substr(kHeaderBytes), kHeaderBytes);
       m.epoch = r.u64("epoch");
       m.sequence = r.u64("sequence");
       if (m.type == MessageType::kAck) m.next_sequence = r.u64("next sequence");
+      if (m.type == MessageType::kRefuse) {
+        const uint8_t code = r.u8("code");
+        if (code < static_cast<uint8_t>(RefuseCode::kTooLarge) ||
+            code > static_cast<uint8_t>(RefuseCode::kNotStored))
+          throw io::DecodeError("unknown refusal code " + std::to_string(code));
+        m.code = static_cast<RefuseCode>(code);
+      }
     }
+  } catch (const io::DecodeError& e) {
+    return Error{"frame 0: " + name + ": " + e.what()};
+  }
+  try {  // the body
     switch (m.type) {
       case MessageType::kHello: {
         const Json j = parseBody(frames[1]);

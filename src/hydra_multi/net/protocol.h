@@ -6,13 +6,14 @@
 //
 //   HELLO      robot -> station   header                 | JSON {robot, epoch, layers}
 //   WELCOME    station -> robot   header                 | JSON {station, next_sequence}
-//   REFUSE     station -> robot   header, epoch, seq     | reason (text); seq: the update
-//                                                          refused, kNoSequence for another message
+//   REFUSE     station -> robot   header, epoch, seq, code | reason (text); seq: the update
+//                                                      refused, kNoSequence for another message
 //   UPDATE     robot -> station   header, epoch, seq     | payload (a .dsgb robot-update record)
 //   ACK        station -> robot   header, epoch, seq, next  (update seq is held, and every one
 //                                                           before next)
 //   HEARTBEAT  both ways          header
-//   BYE        robot -> station   header                 (the robot's mission is over)
+//   BYE        both ways          header                 (the robot's mission is over; the
+//                                                          station answers with BYE)
 
 #include <cstdint>
 #include <optional>
@@ -39,6 +40,19 @@ enum class MessageType : uint8_t {
 };
 const char* messageTypeName(MessageType type);
 
+/// Why the station refused a message (REFUSE's code; docs/PROTOCOL.md).
+enum class RefuseCode : uint8_t {
+  kTooLarge = 1,
+  kVersion = 2,
+  kMalformed = 3,
+  kNoHello = 4,  ///< this connection has not said HELLO: say it (again), nothing is dropped
+  kWrongRobot = 5,
+  kBadPayload = 6,
+  kNotStored = 7,
+};
+/// "too_large", "version", ...: the name counted in station.json.
+const char* refuseCodeName(RefuseCode code);
+
 struct Message {
   MessageType type = MessageType::kHeartbeat;
   uint64_t epoch = 0;     ///< UPDATE, ACK, HELLO: the robot process's run (changes on restart)
@@ -48,13 +62,15 @@ struct Message {
   uint32_t provided_layers = 0;
   /// WELCOME, ACK: the station holds every update of this robot before it (0: none).
   uint64_t next_sequence = 0;
-  std::string text;     ///< REFUSE: the reason; WELCOME: the station's name
-  std::string payload;  ///< UPDATE: the robot update, as one .dsgb record
+  std::string text;                          ///< REFUSE: the reason; WELCOME: the station's name
+  RefuseCode code = RefuseCode::kMalformed;  ///< REFUSE
+  std::string payload;                       ///< UPDATE: the robot update, as one .dsgb record
 };
 
 Message hello(RobotId robot, uint64_t epoch, uint32_t provided_layers);
 Message welcome(uint64_t next_sequence);
-Message refuse(std::string reason, uint64_t epoch = 0, uint64_t sequence = kNoSequence);
+Message refuse(RefuseCode code, std::string reason, uint64_t epoch = 0,
+               uint64_t sequence = kNoSequence);
 Message update(uint64_t epoch, uint64_t sequence, std::string payload);
 Message ack(uint64_t epoch, uint64_t sequence, uint64_t next_sequence);
 Message heartbeat();

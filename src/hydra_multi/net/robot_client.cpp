@@ -64,6 +64,7 @@ struct RobotClient::Impl {
   std::map<uint64_t, Entry> outbox;  // by sequence
   size_t in_flight = 0;
   std::string fatal;
+  bool bye_answered = false;
   RobotClientCounts counts;
 };
 
@@ -131,9 +132,26 @@ void RobotClient::Impl::handle(const Message& m) {
       return;
     }
     case MessageType::kRefuse: {
+      if (m.code == RefuseCode::kNoHello) {
+        if (state != State::kWelcomed) return;  // a HELLO is on its way already
+        // The station does not know this connection: it restarted, and ZeroMQ reconnected the
+        // socket underneath. Say HELLO again; its WELCOME says what it holds.
+        log("the station does not know this connection (" + m.text + "); saying HELLO again");
+        state = State::kHelloSent;
+        for (auto& [sequence, entry] : outbox) entry.in_flight = false;
+        in_flight = 0;
+        bye_answered = false;
+        send(hello(robot, options.epoch, provided_layers));
+        return;
+      }
       if (m.sequence == kNoSequence) {
-        fatal = "the station refused: " + m.text;
-        log(fatal);
+        // A refused HELLO ends the mission; other refused messages are only logged.
+        if (state == State::kHelloSent) {
+          fatal = "the station refused: " + m.text;
+          log(fatal);
+        } else {
+          log("the station refused a message: " + m.text);
+        }
         return;
       }
       log("the station refused update " + std::to_string(m.sequence) + ": " + m.text);
@@ -144,6 +162,9 @@ void RobotClient::Impl::handle(const Message& m) {
       }
       return;
     }
+    case MessageType::kBye:
+      bye_answered = true;
+      return;
     default:
       return;  // heartbeats: being heard is all
   }
@@ -222,13 +243,19 @@ void RobotClient::pump(std::chrono::milliseconds budget) {
 bool RobotClient::finish(std::chrono::milliseconds timeout) {
   Impl& c = *impl_;
   const Clock::time_point end = Clock::now() + timeout;
-  while (!c.outbox.empty() && c.fatal.empty() && Clock::now() < end)
+  // Every update acknowledged, then BYE until the station answers it (a BYE sent to a station
+  // that restarted is refused, and the robot says HELLO again first).
+  Clock::time_point bye_sent = Clock::now() - std::chrono::hours(1);
+  c.bye_answered = false;
+  while (c.fatal.empty() && Clock::now() < end && !c.bye_answered) {
+    if (c.outbox.empty() && c.state == Impl::State::kWelcomed &&
+        secondsSince(bye_sent) >= c.options.heartbeat_s) {
+      c.send(bye());
+      bye_sent = Clock::now();
+    }
     pump(std::chrono::milliseconds(50));
-  if (!c.outbox.empty() || !c.fatal.empty() || c.state != Impl::State::kWelcomed) return false;
-  c.send(bye());
-  // Give the BYE time to leave before the socket closes (linger is 0).
-  pump(std::chrono::milliseconds(100));
-  return true;
+  }
+  return c.bye_answered && c.outbox.empty() && c.fatal.empty();
 }
 
 size_t RobotClient::unacknowledged() const { return impl_->outbox.size(); }

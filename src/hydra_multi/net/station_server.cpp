@@ -55,8 +55,8 @@ struct StationServer::Impl {
     if (options.log) options.log(line);
   }
   void send(const std::string& id, Session& session, const Message& message);
-  void refuse(const std::string& id, Session& session, const std::string& category,
-              const std::string& reason, uint64_t sequence = kNoSequence);
+  void refuse(const std::string& id, Session& session, RefuseCode code, const std::string& reason,
+              uint64_t sequence = kNoSequence);
   void handle(const std::string& id, const std::vector<std::string>& frames);
   void onHello(const std::string& id, Session& session, const Message& m);
   void onUpdate(const std::string& id, Session& session, const Message& m);
@@ -87,12 +87,11 @@ void StationServer::Impl::send(const std::string& id, Session& session, const Me
   session.last_sent = Clock::now();
 }
 
-void StationServer::Impl::refuse(const std::string& id, Session& session,
-                                 const std::string& category, const std::string& reason,
-                                 uint64_t sequence) {
-  ++counts.refused[category];
+void StationServer::Impl::refuse(const std::string& id, Session& session, RefuseCode code,
+                                 const std::string& reason, uint64_t sequence) {
+  ++counts.refused[refuseCodeName(code)];
   log("station: refused a message from " + who(session) + ": " + reason);
-  send(id, session, net::refuse(reason, session.epoch, sequence));
+  send(id, session, net::refuse(code, reason, session.epoch, sequence));
 }
 
 void StationServer::Impl::onHello(const std::string& id, Session& session, const Message& m) {
@@ -120,24 +119,26 @@ void StationServer::Impl::onHello(const std::string& id, Session& session, const
 }
 
 void StationServer::Impl::onUpdate(const std::string& id, Session& session, const Message& m) {
+  // No HELLO on this connection: a robot whose station restarted under it (ZeroMQ reconnects by
+  // itself). Refused without a sequence, which asks the robot to say HELLO again; its update is
+  // not dropped.
   if (!session.welcomed)
-    return refuse(id, session, "no_hello",
-                  "UPDATE " + std::to_string(m.sequence) + " before HELLO on this connection",
-                  m.sequence);
+    return refuse(id, session, RefuseCode::kNoHello,
+                  "UPDATE " + std::to_string(m.sequence) + " before HELLO on this connection");
   auto decoded = io::decodeRobotUpdateBinary(m.payload);
   if (!decoded)
-    return refuse(id, session, "bad_payload",
+    return refuse(id, session, RefuseCode::kBadPayload,
                   "UPDATE " + std::to_string(m.sequence) + ": payload: " + decoded.error(),
                   m.sequence);
   const RobotUpdate& u = decoded.value();
   if (u.robot != session.robot)
-    return refuse(id, session, "wrong_robot",
+    return refuse(id, session, RefuseCode::kWrongRobot,
                   "UPDATE " + std::to_string(m.sequence) + " is robot " + u.robot.str() +
                       "'s, this connection speaks for robot " + session.robot.str(),
                   m.sequence);
   if (u.sequence != m.sequence)
     return refuse(
-        id, session, "malformed",
+        id, session, RefuseCode::kMalformed,
         "UPDATE " + std::to_string(m.sequence) + " carries update " + std::to_string(u.sequence),
         m.sequence);
   RobotLinkCounts& robot = counts.robots[session.robot];
@@ -145,6 +146,13 @@ void StationServer::Impl::onUpdate(const std::string& id, Session& session, cons
   if (h.has(u.sequence)) {
     ++robot.duplicates;
   } else {
+    if (options.persist) {
+      if (Status stored = options.persist(u, session.epoch, m.payload); !stored)
+        return refuse(id, session, RefuseCode::kNotStored,
+                      "UPDATE " + std::to_string(m.sequence) +
+                          ": the station cannot store it: " + stored.message(),
+                      m.sequence);
+    }
     const bool snapshot = u.is_snapshot;
     station.submit(std::move(decoded).value());
     ++robot.updates;
@@ -164,7 +172,7 @@ void StationServer::Impl::handle(const std::string& id, const std::vector<std::s
   counts.bytes += bytes;
   if (session.welcomed) counts.robots[session.robot].bytes += bytes;
   if (bytes > options.max_message_bytes)
-    return refuse(id, session, "too_large",
+    return refuse(id, session, RefuseCode::kTooLarge,
                   "a message of " + std::to_string(bytes) + " bytes, more than the limit of " +
                       std::to_string(options.max_message_bytes));
   auto message = decodeMessage(frames);
@@ -172,7 +180,8 @@ void StationServer::Impl::handle(const std::string& id, const std::vector<std::s
     const bool version = !frames.empty() && frames[0].size() >= 3 &&
                          frames[0].compare(0, 2, "HM") == 0 &&
                          static_cast<uint8_t>(frames[0][2]) != kProtocolVersion;
-    return refuse(id, session, version ? "version" : "malformed", message.error());
+    return refuse(id, session, version ? RefuseCode::kVersion : RefuseCode::kMalformed,
+                  message.error());
   }
   const Message& m = message.value();
   switch (m.type) {
@@ -183,14 +192,15 @@ void StationServer::Impl::handle(const std::string& id, const std::vector<std::s
     case MessageType::kHeartbeat:
       return;
     case MessageType::kBye:
-      if (!session.welcomed) return refuse(id, session, "no_hello", "BYE before HELLO");
+      if (!session.welcomed) return refuse(id, session, RefuseCode::kNoHello, "BYE before HELLO");
       counts.robots[session.robot].said_bye = true;
       log("station: robot " + session.robot.str() + " said BYE (" +
           std::to_string(counts.robots[session.robot].updates) + " updates)");
+      send(id, session, bye());  // the answer the robot waits for
       sessions.erase(id);
       return;
     default:
-      return refuse(id, session, "malformed",
+      return refuse(id, session, RefuseCode::kMalformed,
                     std::string(messageTypeName(m.type)) + " is the station's to send");
   }
 }
@@ -232,6 +242,12 @@ StationServer::~StationServer() = default;
 
 const std::string& StationServer::endpoint() const { return impl_->endpoint; }
 const StationServerCounts& StationServer::counts() const { return impl_->counts; }
+
+void StationServer::hold(RobotId robot, uint64_t sequence, bool snapshot) {
+  Held& h = impl_->held[robot];
+  if (!h.has(sequence)) h.add(sequence, snapshot);
+  impl_->counts.robots[robot].next_sequence = h.next;
+}
 
 void StationServer::serve(const std::function<bool()>& stop, size_t expect_robots) {
   Impl& s = *impl_;

@@ -8,8 +8,8 @@
 // it never stops the station. Heartbeats go both ways; a robot silent for `missed_heartbeats`
 // beats is taken as gone (its updates stay; it may come back). ZeroMQ stays inside this unit.
 //
-// Durability: an ACK means the update is on the Station's ingest queue, not yet on disk (the
-// journal is missing: README).
+// Durability: with `persist` (the station's journal, store/journal.h) an update is acknowledged
+// only once persist() has stored it; without, once it is on the Station's ingest queue.
 
 #include <functional>
 #include <map>
@@ -27,6 +27,10 @@ struct StationServerOptions {
   double heartbeat_s = 1.0;
   int missed_heartbeats = 3;  ///< silent for this many beats: gone
   std::function<void(const std::string&)> log;
+  /// Stores an accepted update (its robot, epoch, sequence and payload record) before it is
+  /// handed on and acknowledged; an error refuses it (`not_stored`) and it is not acknowledged.
+  std::function<Status(const RobotUpdate& update, uint64_t epoch, const std::string& payload)>
+      persist;
 };
 
 /// What became of one robot's messages (over all its connections).
@@ -58,6 +62,9 @@ class StationServer {
   /// have said BYE.
   void serve(const std::function<bool()>& stop, size_t expect_robots = 0);
   const StationServerCounts& counts() const;
+  /// Marks an update as held already (replayed from the journal before serving), so that its
+  /// robot is welcomed past it and a resend of it is not handed on again.
+  void hold(RobotId robot, uint64_t sequence, bool snapshot);
 
  private:
   struct Impl;

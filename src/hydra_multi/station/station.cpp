@@ -255,8 +255,9 @@ void Station::Impl::endOfInput() {
       log(describeStream(robot, processor.order(robot), records));
   }
   result.robots = robots.size();
-  // The last round runs on the final state, after whatever round is running now.
-  handOff(processed);
+  // The last round runs on the final state, after whatever round is running now (none when no
+  // update ever came).
+  if (processed > 0) handOff(processed);
   {
     std::lock_guard<std::mutex> lock(handoff_mutex);
     backend_done = true;

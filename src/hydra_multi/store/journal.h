@@ -1,0 +1,56 @@
+#pragma once
+// The durable journal of the updates the station accepted (SQLite, WAL mode; DESIGN.md "The
+// station as a service"): one row and one transaction per update (robot, epoch, sequence, the
+// update as its .dsgb record, arrival time), written before the update is acknowledged, so that
+// a station that restarts on the same folder replays it and loses nothing it acknowledged. A
+// robot's sequence is in the journal at most once. SQLite stays inside this unit.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "hydra_multi/core/result.h"
+#include "hydra_multi/core/robot_id.h"
+
+namespace hydra_multi::store {
+
+/// SQLite's `synchronous` in WAL mode: kFull syncs every commit (durable through a power loss),
+/// kNormal syncs at checkpoints (durable through a crash of the process, not of the machine).
+enum class Durability { kFull, kNormal };
+
+struct JournalEntry {
+  RobotId robot;
+  uint64_t epoch = 0;
+  uint64_t sequence = 0;
+  std::string payload;  ///< the update, one .dsgb robot-update record
+  int64_t arrival_ns = 0;
+};
+
+class Journal {
+ public:
+  /// Opens (or creates) the journal at `path`; an error names the file (not a database, another
+  /// table layout, a folder that cannot be written).
+  static Result<std::unique_ptr<Journal>> open(const std::string& path,
+                                               Durability durability = Durability::kFull);
+  ~Journal();
+  Journal(const Journal&) = delete;
+  Journal& operator=(const Journal&) = delete;
+
+  /// Appends an update in its own transaction; OK means it is committed. An entry of a robot
+  /// and sequence that is there already is refused (an error), and nothing changes.
+  Status append(const JournalEntry& entry);
+  /// Every entry, in the order it was appended; stops at the first error (a damaged file).
+  Status replay(const std::function<void(JournalEntry&&)>& each) const;
+  size_t size() const;
+  /// SQLite's `PRAGMA integrity_check`: "ok", or what it found.
+  std::string integrityCheck() const;
+  const std::string& path() const;
+
+ private:
+  struct Impl;
+  explicit Journal(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hydra_multi::store
