@@ -49,6 +49,7 @@ base_args() {
     trials) echo "--preset tiny --out $TMP/x" ;;
     station) echo "--out $TMP/x" ;;
     robot) echo "--dataset $DIR --robot a --connect tcp://127.0.0.1:1" ;;
+    keygen) echo "--out $TMP/key" ;;
     *) echo "" ;;
   esac
 }
@@ -162,6 +163,11 @@ outdir|trials --preset tiny --out @
 outdir|station --out @
 file|station --out $TMP/x --config @
 folder|robot --dataset @ --robot a --connect tcp://127.0.0.1:1
+folder|station --out $TMP/x --keys @ --key $FILE
+file|station --out $TMP/x --keys $DIR --key @
+file|robot --dataset $DATASET --robot a --connect tcp://127.0.0.1:1 --key @ --station-key $FILE
+file|robot --dataset $DATASET --robot a --connect tcp://127.0.0.1:1 --key $FILE --station-key @
+outfile|keygen --out @
 EOF
 
 # Empty paths are a wrong command line.
@@ -173,6 +179,9 @@ expect 2 "^hydra-multi: error: unknown command 'frobnicate' \(commands: info, " 
 expect 2 "^hydra-multi: error: run: --ablation excludes --baseline" run --dataset "$DATASET" --out "$TMP/x" --ablation no-rec --baseline oracle-lc
 expect 2 "^hydra-multi: error: pgo: --unknown-frames excludes --init" pgo --input "$G2O" --unknown-frames --init odometry
 expect 2 "^hydra-multi: error: pgo: --inliers-xml excludes --inlier-edges" pgo --input "$G2O" --inliers-xml "$FILE" --inlier-edges "$FILE"
+# Keys come in pairs: the station's secret with the robots' keys, a robot's with the station's.
+expect 2 "^hydra-multi: error: station: --keys requires --key" station --out "$TMP/x" --keys "$DIR"
+expect 2 "^hydra-multi: error: robot: --key requires --station-key" robot --dataset "$DATASET" --robot a --connect tcp://127.0.0.1:1 --key "$FILE"
 # Options that would do nothing beside the others given.
 expect 2 "^hydra-multi: error: pgo: --seed applies to --outliers only" pgo --input "$G2O" --seed 3
 expect 2 "^hydra-multi: error: pgo: --linear-solver applies to --robust gnc only" pgo --input "$G2O" --linear-solver cg

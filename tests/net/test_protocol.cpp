@@ -83,13 +83,14 @@ TEST(Protocol, RefusesWhatDoesNotFit) {
 
 // 20000 mutations of valid messages' frames: each decodes or is refused, never throws.
 TEST(Protocol, MutatedFramesNeverCrash) {
-  const std::vector<std::vector<std::string>> valid = {encodeMessage(hello(kB, 7, kProvidesAll)),
-                                                       encodeMessage(welcome(3)),
-                                                       encodeMessage(refuse(RefuseCode::kMalformed, "why", 1, 2)),
-                                                       encodeMessage(update(1, 2, "payload")),
-                                                       encodeMessage(ack(1, 2, 3)),
-                                                       encodeMessage(heartbeat()),
-                                                       encodeMessage(bye())};
+  const std::vector<std::vector<std::string>> valid = {
+      encodeMessage(hello(kB, 7, kProvidesAll)),
+      encodeMessage(welcome(3)),
+      encodeMessage(refuse(RefuseCode::kMalformed, "why", 1, 2)),
+      encodeMessage(update(1, 2, "payload")),
+      encodeMessage(ack(1, 2, 3)),
+      encodeMessage(heartbeat()),
+      encodeMessage(bye())};
   std::mt19937 rng(19);
   size_t refused = 0;
   for (int i = 0; i < 20000; ++i) {

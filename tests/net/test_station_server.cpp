@@ -6,11 +6,14 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <filesystem>
+#include <fstream>
 #include <thread>
 #include <zmq.hpp>
 #include <zmq_addon.hpp>
 
 #include "hydra_multi/dsg/io/binary_format.h"
+#include "hydra_multi/net/keys.h"
 #include "hydra_multi/net/protocol.h"
 #include "hydra_multi/net/robot_client.h"
 #include "hydra_multi/net/station_server.h"
@@ -241,6 +244,76 @@ TEST(StationServer, RobotWaitsAndReconnects) {
   EXPECT_EQ(result.counts.appliedTotal(), stream.size());
   EXPECT_GE(client.counts().connections, 1u);
   EXPECT_EQ(client.counts().acknowledged, stream.size());
+}
+
+// CURVE: the station admits only the keys it knows, and a key speaks only for its robot. Robot
+// a with its key streams its map; a robot with a key the station does not know is never welcomed;
+// robot a's key saying HELLO for robot b is refused, which ends that robot's mission.
+TEST(StationServer, CurveAdmitsKnownKeysForTheirRobotsOnly) {
+  ASSERT_TRUE(curveAvailable());
+  const KeyPair station_keys = generateKeyPair().value();
+  const KeyPair a_keys = generateKeyPair().value(), stranger = generateKeyPair().value();
+  StationServerOptions options;
+  options.secret_key = station_keys.secret_z85;
+  options.robot_keys = {{a_keys.public_z85, kA}};
+  Served served(0, options);
+  const auto curveOptions = [&](const KeyPair& keys) {
+    RobotClientOptions o = clientOptions(served.endpoint());
+    o.secret_key = keys.secret_z85;
+    o.station_key = station_keys.public_z85;
+    return o;
+  };
+  RobotClient unknown(kB, kProvidesAll, curveOptions(stranger));
+  ASSERT_TRUE(unknown.enqueue(tiny().streams[1].front()));
+  RobotClient impostor(kB, kProvidesAll, curveOptions(a_keys));
+  ASSERT_TRUE(impostor.enqueue(tiny().streams[1].front()));
+  RobotClient a(kA, kProvidesAll, curveOptions(a_keys));
+  EXPECT_TRUE(sendStream(a, 0));
+  for (int i = 0; i < 20; ++i) {
+    unknown.pump(50ms);
+    impostor.pump(50ms);
+  }
+  EXPECT_FALSE(unknown.welcomed());
+  EXPECT_EQ(unknown.counts().acknowledged, 0u);
+  EXPECT_EQ(impostor.fatal(), "the station refused: HELLO for robot b with robot a's key");
+  const StationResult result = served.finish();
+  EXPECT_EQ(result.counts.appliedTotal(), tiny().streams[0].size());
+  EXPECT_GE(served.counts().refused.at("unknown_key"), 1u);
+  EXPECT_EQ(served.counts().refused.at("wrong_robot"), 1u);
+}
+
+// Key files: written once (never over an existing key), read back, the secret only its owner's;
+// a folder of robot keys maps each key to its file's robot, and refuses a file that is no
+// robot's, a key that is not one, and a key two robots share.
+TEST(Keys, FilesOfKeys) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "hydra_multi_keys_test";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "robots");
+  const KeyPair keys = generateKeyPair().value();
+  ASSERT_TRUE(writeKeyPair((dir / "a").string(), keys).ok());
+  EXPECT_EQ(writeKeyPair((dir / "a").string(), keys).message(),
+            (dir / "a.key").string() + ": exists already; not overwriting a key");
+  EXPECT_EQ(fs::status(dir / "a.key").permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::owner_write);
+  EXPECT_EQ(readKey((dir / "a.key").string()).value(), keys.secret_z85);
+  EXPECT_EQ(publicKeyOf(keys.secret_z85).value(), keys.public_z85);
+  fs::copy_file(dir / "a.pub", dir / "robots" / "a.pub");
+  EXPECT_EQ(readRobotKeys((dir / "robots").string()).value(),
+            (std::map<std::string, RobotId>{{keys.public_z85, kA}}));
+  fs::copy_file(dir / "a.pub", dir / "robots" / "b.pub");
+  EXPECT_EQ(readRobotKeys((dir / "robots").string()).error(),
+            (dir / "robots" / "b.pub").string() + ": the same key as robot a's");
+  fs::remove(dir / "robots" / "b.pub");
+  std::ofstream(dir / "robots" / "station.pub") << keys.public_z85 << "\n";
+  EXPECT_NE(
+      readRobotKeys((dir / "robots").string()).error().find("'station' is not a robot's name"),
+      std::string::npos);
+  std::ofstream(dir / "bad.key") << "short\n";
+  EXPECT_EQ(readKey((dir / "bad.key").string()).error(),
+            (dir / "bad.key").string() +
+                ": not a CURVE key (one line of 40 Z85 characters, as keygen writes)");
+  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -134,9 +134,16 @@ struct StationCommandOptions {
   size_t expect_robots = 0;  ///< end once this many robots said BYE (0: at SIGINT/SIGTERM)
   double max_message_mb = 64.0;
   std::string durability = "full";  ///< full | normal: the journal's SQLite synchronous setting
+  std::string keys;  ///< folder of the robots' public keys (a.pub, ...); empty: no authentication
+  std::string key;   ///< the station's secret key (with `keys`)
   bool quiet = false;
 };
 int runStationCommand(const StationCommandOptions& options);
+
+struct KeygenOptions {
+  std::string out;  ///< PREFIX: writes PREFIX.key (secret) and PREFIX.pub (public)
+};
+int runKeygen(const KeygenOptions& options);
 
 struct RobotCommandOptions {
   std::string dataset;
@@ -145,6 +152,8 @@ struct RobotCommandOptions {
   double speed =
       0.0;  ///< robot time: 1 real time, 10 faster, 0 as fast as the station acknowledges
   double timeout_s = 60.0;  ///< give up when the station has not taken everything by then
+  std::string key;          ///< the robot's secret key (CURVE); empty: none
+  std::string station_key;  ///< the station's public key (with `key`)
   bool quiet = false;
 };
 int runRobotCommand(const RobotCommandOptions& options);

@@ -234,7 +234,20 @@ int main(int argc, char** argv) {
                    "(synced at checkpoints: survives a crash of the station, not of the machine)")
       ->check(CLI::IsMember({"full", "normal"}))
       ->capture_default_str();
+  CLI::Option* station_keys = cli.inputDirectory(
+      station_cmd, "--keys", station.keys,
+      "admit only the robots whose public keys lie here (a.pub, b.pub, ...; CURVE)");
+  cli.inputFile(station_cmd, "--key", station.key, "the station's secret key (with --keys)")
+      ->needs(station_keys);
+  station_keys->needs(station_cmd->get_option("--key"));
   station_cmd->add_flag("--quiet", station.quiet, "no progress lines on stderr");
+
+  KeygenOptions keygen;
+  CLI::App* keygen_cmd = app.add_subcommand(
+      "keygen", "Make a CURVE key pair for a robot or the station: PREFIX.key and PREFIX.pub");
+  cli.outputFile(keygen_cmd, "--out", keygen.out,
+                 "PREFIX of the files (a robot's is named by the robot: keys/a)")
+      ->required();
 
   RobotCommandOptions robot;
   CLI::App* robot_cmd = app.add_subcommand(
@@ -252,6 +265,12 @@ int main(int argc, char** argv) {
            "give up (exit 1) when the station has not taken every update after this many seconds",
            {0.0, 86400.0, true})
       ->capture_default_str();
+  CLI::Option* robot_key =
+      cli.inputFile(robot_cmd, "--key", robot.key, "the robot's secret key (CURVE)");
+  cli.inputFile(robot_cmd, "--station-key", robot.station_key,
+                "the station's public key (with --key)")
+      ->needs(robot_key);
+  robot_key->needs(robot_cmd->get_option("--station-key"));
   robot_cmd->add_flag("--quiet", robot.quiet, "no progress lines on stderr");
 
   TrialsOptions trials;
@@ -314,5 +333,6 @@ int main(int argc, char** argv) {
   if (*run_cmd) return runRun(run);
   if (*station_cmd) return runStationCommand(station);
   if (*robot_cmd) return runRobotCommand(robot);
+  if (*keygen_cmd) return runKeygen(keygen);
   return 0;
 }

@@ -5,10 +5,12 @@
 
 #include <chrono>
 #include <iostream>
+#include <sstream>
 #include <thread>
 
 #include "hydra_multi/apps/commands.h"
 #include "hydra_multi/dsg/io/dataset_files.h"
+#include "hydra_multi/net/keys.h"
 #include "hydra_multi/net/robot_client.h"
 
 namespace hydra_multi::apps {
@@ -34,6 +36,14 @@ int runRobotCommand(const RobotCommandOptions& o) {
 
   net::RobotClientOptions options;
   options.connect = o.connect;
+  if (!o.key.empty()) {
+    auto secret = net::readKey(o.key);
+    if (!secret) return fail(secret.error());
+    auto station_key = net::readKey(o.station_key);
+    if (!station_key) return fail(station_key.error());
+    options.secret_key = secret.value();
+    options.station_key = station_key.value();
+  }
   if (!o.quiet) options.log = [](const std::string& line) { std::cerr << line << std::endl; };
   net::RobotClient client(entry->robot, updates.front().provided_layers, options);
   const Clock::time_point start = Clock::now();
@@ -61,10 +71,12 @@ int runRobotCommand(const RobotCommandOptions& o) {
             << " acknowledged, " << c.refused << " refused, " << c.connections
             << (c.connections == 1 ? " connection, " : " connections, ") << c.bytes << " bytes\n";
   if (!client.fatal().empty()) return fail(o.connect + ": " + client.fatal());
-  if (!finished)
-    return fail(o.connect + ": the station did not take every update within " +
-                std::to_string(o.timeout_s) + " s (" + std::to_string(client.unacknowledged()) +
-                " unacknowledged)");
+  if (!finished) {
+    std::ostringstream seconds;
+    seconds << o.timeout_s;
+    return fail(o.connect + ": the station did not take every update within " + seconds.str() +
+                " s (" + std::to_string(client.unacknowledged()) + " unacknowledged)");
+  }
   return 0;
 }
 

@@ -21,6 +21,7 @@
 #include "hydra_multi/apps/commands.h"
 #include "hydra_multi/apps/station_outputs.h"
 #include "hydra_multi/dsg/io/binary_format.h"
+#include "hydra_multi/net/keys.h"
 #include "hydra_multi/net/station_server.h"
 #include "hydra_multi/station/station_config.h"
 #include "hydra_multi/store/journal.h"
@@ -52,6 +53,16 @@ int runStationCommand(const StationCommandOptions& o) {
   Station station(options);
   net::StationServerOptions server_options;
   server_options.listen = o.listen;
+  if (!o.keys.empty()) {
+    if (!net::curveAvailable())
+      return fail("--keys: this ZeroMQ library has no CURVE (it was built without libsodium)");
+    auto robots = net::readRobotKeys(o.keys);
+    if (!robots) return fail(robots.error());
+    auto secret = net::readKey(o.key);
+    if (!secret) return fail(secret.error());
+    server_options.robot_keys = std::move(robots).value();
+    server_options.secret_key = secret.value();
+  }
   server_options.max_message_bytes = static_cast<size_t>(o.max_message_mb * (1 << 20));
   server_options.log = log;
   const std::string journal_path = (fs::path(o.out) / "journal.sqlite").string();
@@ -88,8 +99,14 @@ int runStationCommand(const StationCommandOptions& o) {
               << (unreadable ? ", " + std::to_string(unreadable) + " left out" : "") << std::endl;
   const std::string endpoint = server.value()->endpoint();
   std::ofstream(fs::path(o.out) / "endpoint") << endpoint << "\n";
-  std::cerr << "station: listening on " << endpoint << " (no authentication: any peer that "
-            << "reaches it can speak for any robot)"
+  std::string admitted;
+  for (const auto& [key, robot] : server_options.robot_keys)
+    admitted += (admitted.empty() ? "" : ", ") + robot.str();
+  std::cerr << "station: listening on " << endpoint
+            << (o.keys.empty()
+                    ? " (NO AUTHENTICATION: any peer that reaches it can speak for any robot; "
+                      "give --keys and --key)"
+                    : " (CURVE: robots " + admitted + " of " + o.keys + ")")
             << (o.expect_robots > 0
                     ? ", until " + std::to_string(o.expect_robots) + " robots have said BYE"
                     : std::string(", until SIGINT or SIGTERM"))
@@ -128,7 +145,7 @@ int runStationCommand(const StationCommandOptions& o) {
                                           {"bytes_received", counts.bytes},
                                           {"journal", journal_path},
                                           {"journal_entries", journal.value()->size()},
-      {"journal_integrity", journal.value()->integrityCheck()},
+                                          {"journal_integrity", journal.value()->integrityCheck()},
                                           {"updates_replayed", replayed},
                                           {"backend_rounds", result.rounds.size()},
                                           {"frontend_ms_p50", times.frontend_ms_p50},
@@ -149,6 +166,19 @@ int runStationCommand(const StationCommandOptions& o) {
             << "outputs in " << o.out
             << ": graph.json, graph.spark.json, mesh.ply, timing.csv, config.json, station.json, "
                "journal.sqlite\n";
+  return 0;
+}
+
+}  // namespace hydra_multi::apps
+
+namespace hydra_multi::apps {
+
+int runKeygen(const KeygenOptions& o) {
+  auto keys = net::generateKeyPair();
+  if (!keys) return fail(keys.error());
+  if (Status s = net::writeKeyPair(o.out, keys.value()); !s) return fail(s.message());
+  std::cout << "wrote " << o.out << ".key (secret: keep it on its machine) and " << o.out
+            << ".pub (public: give it to the station, or to the robots for the station's key)\n";
   return 0;
 }
 

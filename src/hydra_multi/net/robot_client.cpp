@@ -2,11 +2,13 @@
 
 #include <map>
 #include <optional>
+#include <sstream>
 #include <thread>
 #include <zmq.hpp>
 #include <zmq_addon.hpp>
 
 #include "hydra_multi/dsg/io/binary_format.h"
+#include "hydra_multi/net/keys.h"
 #include "hydra_multi/net/protocol.h"
 
 namespace hydra_multi::net {
@@ -84,6 +86,17 @@ void RobotClient::Impl::connect() {
   socket.emplace(context, zmq::socket_type::dealer);
   socket->set(zmq::sockopt::linger, 0);
   try {
+    if (!options.secret_key.empty()) {
+      auto own = publicKeyOf(options.secret_key);
+      if (!own) {
+        fatal = "its key: " + own.error();
+        socket.reset();
+        return;
+      }
+      socket->set(zmq::sockopt::curve_secretkey, options.secret_key);
+      socket->set(zmq::sockopt::curve_publickey, own.value());
+      socket->set(zmq::sockopt::curve_serverkey, options.station_key);
+    }
     socket->connect(options.connect);
   } catch (const zmq::error_t& e) {
     fatal = options.connect + ": cannot connect: " + e.what();
@@ -96,7 +109,9 @@ void RobotClient::Impl::connect() {
 }
 
 void RobotClient::Impl::disconnect(const std::string& why) {
-  log(why + "; connecting again in " + std::to_string(backoff_s) + " s");
+  std::ostringstream delay;
+  delay << backoff_s;
+  log(why + "; connecting again in " + delay.str() + " s");
   socket.reset();
   state = State::kDisconnected;
   reconnect_at = Clock::now() + seconds(backoff_s);
@@ -232,7 +247,9 @@ void RobotClient::pump(std::chrono::milliseconds budget) {
     if (!c.fatal.empty()) return;
     if (secondsSince(c.last_heard) > c.options.heartbeat_s * c.options.missed_heartbeats) {
       c.disconnect(c.state == Impl::State::kWelcomed ? "the station is silent"
-                                                     : "no WELCOME from the station");
+                   : c.options.secret_key.empty()
+                       ? "no WELCOME from the station"
+                       : "no WELCOME from the station (does it know this robot's key?)");
       continue;
     }
     if (c.state == Impl::State::kWelcomed) c.sendUpdates();

@@ -27,6 +27,8 @@ struct RobotClientOptions {
   size_t outbox_limit = 4096;  ///< updates kept until acknowledged at most
   double backoff_min_s = 0.5, backoff_max_s = 16.0;
   std::function<void(const std::string&)> log;
+  /// CURVE (keys.h): the robot's secret key and the station's public key. Empty: none.
+  std::string secret_key, station_key;
 };
 
 struct RobotClientCounts {

@@ -1,6 +1,7 @@
 #include "hydra_multi/net/station_server.h"
 
 #include <chrono>
+#include <optional>
 #include <set>
 #include <zmq.hpp>
 #include <zmq_addon.hpp>
@@ -19,7 +20,8 @@ double secondsSince(Clock::time_point t) {
 
 // A connection: what its HELLO said, and when it was last heard and sent to.
 struct Session {
-  size_t number = 0;  // for logs: "connection 3"
+  size_t number = 0;                 // for logs: "connection 3"
+  std::optional<RobotId> key_robot;  // with CURVE: the robot whose key the connection holds
   bool welcomed = false;
   RobotId robot;
   uint64_t epoch = 0;
@@ -49,7 +51,10 @@ struct Held {
 
 struct StationServer::Impl {
   Impl(Station& s, StationServerOptions o)
-      : station(s), options(std::move(o)), socket(context, zmq::socket_type::router) {}
+      : station(s),
+        options(std::move(o)),
+        socket(context, zmq::socket_type::router),
+        zap(context, zmq::socket_type::rep) {}
 
   void log(const std::string& line) const {
     if (options.log) options.log(line);
@@ -61,6 +66,7 @@ struct StationServer::Impl {
   void onHello(const std::string& id, Session& session, const Message& m);
   void onUpdate(const std::string& id, Session& session, const Message& m);
   void housekeeping();
+  void authenticate();  // answers one ZAP request
   std::string who(const Session& s) const {
     return "connection " + std::to_string(s.number) +
            (s.welcomed ? " (robot " + s.robot.str() + ")" : std::string());
@@ -70,6 +76,8 @@ struct StationServer::Impl {
   StationServerOptions options;
   zmq::context_t context;
   zmq::socket_t socket;
+  zmq::socket_t zap;  // the ZAP handler's, with CURVE
+  bool curve = false;
   std::string endpoint;
   std::map<std::string, Session> sessions;  // by ZeroMQ routing id
   size_t connections = 0;
@@ -94,7 +102,41 @@ void StationServer::Impl::refuse(const std::string& id, Session& session, Refuse
   send(id, session, net::refuse(code, reason, session.epoch, sequence));
 }
 
+void StationServer::Impl::authenticate() {
+  std::vector<zmq::message_t> request;
+  if (!zmq::recv_multipart(zap, std::back_inserter(request), zmq::recv_flags::dontwait)) return;
+  // ZAP (ZeroMQ RFC 27): version, request id, domain, address, routing id, mechanism, then the
+  // client's public key for CURVE.
+  std::string status = "400", text = "malformed request", user;
+  if (request.size() >= 7 && request[5].to_string() == "CURVE" && request[6].size() == 32) {
+    char key[41];
+    zmq_z85_encode(key, static_cast<const uint8_t*>(request[6].data()), 32);
+    const auto it = options.robot_keys.find(key);
+    if (it != options.robot_keys.end()) {
+      status = "200";
+      text = "OK";
+      user = it->second.str();
+    } else {
+      text = "unknown key";
+      ++counts.refused["unknown_key"];
+      log("station: refused a connection from " + request[3].to_string() + ": unknown key " + key);
+    }
+  }
+  std::vector<zmq::message_t> reply;
+  reply.emplace_back(std::string("1.0"));
+  reply.emplace_back(request.size() > 1 ? request[1].to_string() : std::string());
+  reply.emplace_back(status);
+  reply.emplace_back(text);
+  reply.emplace_back(user);
+  reply.emplace_back(std::string());
+  (void)zmq::send_multipart(zap, reply);
+}
+
 void StationServer::Impl::onHello(const std::string& id, Session& session, const Message& m) {
+  if (session.key_robot && *session.key_robot != m.robot)
+    return refuse(
+        id, session, RefuseCode::kWrongRobot,
+        "HELLO for robot " + m.robot.str() + " with robot " + session.key_robot->str() + "'s key");
   // Another live connection of the same robot is taken over by this one (a robot that
   // reconnected before the station noticed the old connection was gone).
   for (auto it = sessions.begin(); it != sessions.end();) {
@@ -163,9 +205,8 @@ void StationServer::Impl::onUpdate(const std::string& id, Session& session, cons
 }
 
 void StationServer::Impl::handle(const std::string& id, const std::vector<std::string>& frames) {
-  auto [it, added] = sessions.try_emplace(id);
-  Session& session = it->second;
-  if (added) session.number = ++connections;
+  Session& session = sessions[id];
+  if (session.number == 0) session.number = ++connections;
   session.last_heard = Clock::now();
   size_t bytes = 0;
   for (const std::string& f : frames) bytes += f.size();
@@ -225,6 +266,16 @@ Result<std::unique_ptr<StationServer>> StationServer::create(Station& station,
   auto impl = std::make_unique<Impl>(station, std::move(options));
   try {
     impl->socket.set(zmq::sockopt::linger, 0);
+    if (!impl->options.secret_key.empty()) {
+      if (!zmq_has("curve")) return Error{"this ZeroMQ library has no CURVE (no libsodium)"};
+      // The ZAP handler is bound before the socket that asks it, in the same context.
+      impl->zap.set(zmq::sockopt::linger, 0);
+      impl->zap.bind("inproc://zeromq.zap.01");
+      impl->socket.set(zmq::sockopt::curve_server, true);
+      impl->socket.set(zmq::sockopt::curve_secretkey, impl->options.secret_key);
+      impl->socket.set(zmq::sockopt::zap_domain, "hydra-multi");
+      impl->curve = true;
+    }
     // A hard cap well above the refusal limit: libzmq drops larger messages (and their sender)
     // before they reach the station, which could not say why.
     impl->socket.set(zmq::sockopt::maxmsgsize,
@@ -257,8 +308,10 @@ void StationServer::serve(const std::function<bool()>& stop, size_t expect_robot
     return n;
   };
   while (!(stop && stop())) {
-    zmq::pollitem_t items[] = {{s.socket.handle(), 0, ZMQ_POLLIN, 0}};
-    zmq::poll(items, 1, std::chrono::milliseconds(100));
+    zmq::pollitem_t items[] = {{s.socket.handle(), 0, ZMQ_POLLIN, 0},
+                               {s.zap.handle(), 0, ZMQ_POLLIN, 0}};
+    zmq::poll(items, s.curve ? 2 : 1, std::chrono::milliseconds(100));
+    if (s.curve && (items[1].revents & ZMQ_POLLIN)) s.authenticate();
     // Everything that arrived, a bounded number at a time so that heartbeats still go out.
     for (int i = 0; i < 1000; ++i) {
       std::vector<zmq::message_t> parts;
@@ -268,6 +321,16 @@ void StationServer::serve(const std::function<bool()>& stop, size_t expect_robot
       const std::string id = parts.front().to_string();
       std::vector<std::string> frames;
       for (size_t k = 1; k < parts.size(); ++k) frames.push_back(parts[k].to_string());
+      if (s.curve && parts.size() > 1) {
+        // The robot of the key the ZAP handler admitted this connection with.
+        Session& session = s.sessions[id];
+        if (!session.key_robot) {
+          try {
+            session.key_robot = RobotId::parse(parts[1].gets("User-Id"));
+          } catch (const zmq::error_t&) {
+          }
+        }
+      }
       s.handle(id, frames);
     }
     s.housekeeping();

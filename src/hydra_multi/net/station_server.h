@@ -6,7 +6,9 @@
 // Station, and answered with a cumulative ACK; an update held already is acknowledged and not
 // handed on twice. Whatever is refused is answered with REFUSE and its reason, logged and counted;
 // it never stops the station. Heartbeats go both ways; a robot silent for `missed_heartbeats`
-// beats is taken as gone (its updates stay; it may come back). ZeroMQ stays inside this unit.
+// beats is taken as gone (its updates stay; it may come back). With CURVE keys, a ZAP handler
+// admits only the robots' keys it knows, and a connection may speak only for the robot of its
+// key. ZeroMQ stays inside this unit.
 //
 // Durability: with `persist` (the station's journal, store/journal.h) an update is acknowledged
 // only once persist() has stored it; without, once it is on the Station's ingest queue.
@@ -31,6 +33,10 @@ struct StationServerOptions {
   /// handed on and acknowledged; an error refuses it (`not_stored`) and it is not acknowledged.
   std::function<Status(const RobotUpdate& update, uint64_t epoch, const std::string& payload)>
       persist;
+  /// CURVE (keys.h): the station's secret key and the robots' public keys it admits, each one
+  /// robot's; a connection speaks only for the robot of its key. Empty: no authentication.
+  std::string secret_key;
+  std::map<std::string, RobotId> robot_keys;
 };
 
 /// What became of one robot's messages (over all its connections).
