@@ -8,6 +8,7 @@
 #include <zmq_addon.hpp>
 
 #include "hydra_multi/dsg/io/binary_format.h"
+#include "hydra_multi/net/interruptible_poll.h"
 #include "hydra_multi/net/keys.h"
 #include "hydra_multi/net/protocol.h"
 
@@ -240,7 +241,7 @@ void RobotClient::pump(std::chrono::milliseconds budget) {
     }
     zmq::pollitem_t items[] = {{c.socket->handle(), 0, ZMQ_POLLIN, 0}};
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - Clock::now());
-    zmq::poll(
+    interruptiblePoll(
         items, 1,
         std::max(std::chrono::milliseconds(0), std::min(left, std::chrono::milliseconds(50))));
     c.receive();

@@ -7,6 +7,7 @@
 #include <zmq_addon.hpp>
 
 #include "hydra_multi/dsg/io/binary_format.h"
+#include "hydra_multi/net/interruptible_poll.h"
 #include "hydra_multi/net/protocol.h"
 
 namespace hydra_multi::net {
@@ -310,7 +311,8 @@ void StationServer::serve(const std::function<bool()>& stop, size_t expect_robot
   while (!(stop && stop())) {
     zmq::pollitem_t items[] = {{s.socket.handle(), 0, ZMQ_POLLIN, 0},
                                {s.zap.handle(), 0, ZMQ_POLLIN, 0}};
-    zmq::poll(items, s.curve ? 2 : 1, std::chrono::milliseconds(100));
+    // A signal (SIGINT, SIGTERM: the caller's stop) interrupts the wait; the loop asks stop().
+    if (!interruptiblePoll(items, s.curve ? 2 : 1, std::chrono::milliseconds(100))) continue;
     if (s.curve && (items[1].revents & ZMQ_POLLIN)) s.authenticate();
     // Everything that arrived, a bounded number at a time so that heartbeats still go out.
     for (int i = 0; i < 1000; ++i) {
