@@ -11,26 +11,22 @@ OUT=$3
 SPEED=$4
 rm -rf "$OUT"
 mkdir -p "$OUT"
-pids=()
-cleanup() { for p in "${pids[@]}"; do kill "$p" 2> /dev/null; done; }
-trap cleanup EXIT
+. "$(dirname "$0")/processes.sh"
 
-timeout 60 "$HM" station --listen 'tcp://127.0.0.1:*' --out "$OUT/station" --expect-robots 2 \
-  --quiet > "$OUT/station.txt" 2>&1 &
-station=$!
-pids+=("$station")
-for _ in $(seq 100); do [ -s "$OUT/station/endpoint" ] && break; sleep 0.1; done
-[ -s "$OUT/station/endpoint" ] || { echo "FAIL: the station wrote no endpoint"; cat "$OUT/station.txt"; exit 1; }
-endpoint=$(cat "$OUT/station/endpoint")
-case $endpoint in tcp://127.0.0.1:*) ;; *) echo "FAIL: endpoint $endpoint is not loopback"; exit 1 ;; esac
-
+spawn "$OUT/station.txt" timeout 60 "$HM" station --listen 'tcp://127.0.0.1:*' \
+  --out "$OUT/station" --expect-robots 2 --quiet
+station=$spawned
+await_endpoint "$OUT/station"
+robots=()
 for robot in a b; do
-  timeout 50 "$HM" robot --dataset "$DATASET" --robot "$robot" --connect "$endpoint" \
-    --speed "$SPEED" --quiet > "$OUT/robot_$robot.txt" 2>&1 &
-  pids+=("$!")
+  spawn "$OUT/robot_$robot.txt" timeout 50 "$HM" robot --dataset "$DATASET" --robot "$robot" \
+    --connect "$endpoint" --speed "$SPEED" --quiet
+  robots+=("$spawned")
 done
 status=0
-for p in "${pids[@]:1}"; do wait "$p" || status=1; done
+for p in "${robots[@]}"; do wait "$p" || status=1; done
+# A robot that failed leaves the station waiting for its BYE: stop here (the cleanup stops it).
+[ "$status" -eq 0 ] || { echo "FAIL: a robot failed"; cat "$OUT"/*.txt; exit 1; }
 wait "$station" || status=1
 cat "$OUT"/robot_*.txt "$OUT/station.txt"
 [ "$status" -eq 0 ] || { echo "FAIL: a process failed"; exit 1; }

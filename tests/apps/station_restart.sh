@@ -11,35 +11,30 @@ DATASET=$2
 OUT=$3
 rm -rf "$OUT"
 mkdir -p "$OUT"
-pids=()
-cleanup() { for p in "${pids[@]}"; do kill -9 "$p" 2> /dev/null; done; }
-trap cleanup EXIT
+. "$(dirname "$0")/processes.sh"
 
-# Not under timeout: the station itself must get the SIGKILL (the trap kills it in any case).
-"$HM" station --listen 'tcp://127.0.0.1:*' --out "$OUT/station" --expect-robots 2 \
-  > "$OUT/first.txt" 2>&1 &
-first=$!
-pids+=("$first")
-for _ in $(seq 100); do [ -s "$OUT/station/endpoint" ] && break; sleep 0.1; done
-endpoint=$(cat "$OUT/station/endpoint")
-case $endpoint in tcp://127.0.0.1:*) ;; *) echo "FAIL: endpoint '$endpoint' is not loopback"; exit 1 ;; esac
+# Not under timeout: the station itself must get the SIGKILL (the cleanup stops it in any case).
+spawn "$OUT/first.txt" "$HM" station --listen 'tcp://127.0.0.1:*' --out "$OUT/station" \
+  --expect-robots 2
+first=$spawned
+await_endpoint "$OUT/station"
 robots=()
 for robot in a b; do
-  timeout 50 "$HM" robot --dataset "$DATASET" --robot "$robot" --connect "$endpoint" --speed 10 \
-    > "$OUT/robot_$robot.txt" 2>&1 &
-  robots+=("$!")
-  pids+=("$!")
+  spawn "$OUT/robot_$robot.txt" timeout 50 "$HM" robot --dataset "$DATASET" --robot "$robot" \
+    --connect "$endpoint" --speed 10
+  robots+=("$spawned")
 done
 sleep 4
 kill -9 "$first"
 wait "$first" 2> /dev/null
 echo "killed the station after 4 s"
-timeout 50 "$HM" station --listen "$endpoint" --out "$OUT/station" --expect-robots 2 \
-  > "$OUT/second.txt" 2>&1 &
-second=$!
-pids+=("$second")
+spawn "$OUT/second.txt" timeout 50 "$HM" station --listen "$endpoint" --out "$OUT/station" \
+  --expect-robots 2
+second=$spawned
 status=0
 for p in "${robots[@]}"; do wait "$p" || status=1; done
+# A robot that failed leaves the station waiting for its BYE: stop here (the cleanup stops it).
+[ "$status" -eq 0 ] || { echo "FAIL: a robot failed"; cat "$OUT"/*.txt; exit 1; }
 wait "$second" || status=1
 grep -h -E "^robot [ab] to |saying HELLO again|welcomed, the station holds every update before [1-9]" "$OUT"/robot_*.txt | sort
 grep -E "^station: resumed from" "$OUT/second.txt"
