@@ -44,6 +44,11 @@ TEST(Protocol, EveryTypeRoundTrips) {
   EXPECT_EQ(a.next_sequence, 40u);
   EXPECT_EQ(roundTrip(heartbeat()).type, MessageType::kHeartbeat);
   EXPECT_EQ(roundTrip(bye()).type, MessageType::kBye);
+  const Message s = roundTrip(snapshotRequest(3, 17));
+  EXPECT_EQ(s.type, MessageType::kSnapshotRequest);
+  EXPECT_EQ(s.epoch, 3u);
+  EXPECT_EQ(s.next_sequence, 17u);
+  EXPECT_EQ(encodeMessage(snapshotRequest(3, 17)).front().size(), 20u);  // header and two fields
 }
 
 std::string refusal(const std::vector<std::string>& frames) {

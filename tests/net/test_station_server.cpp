@@ -246,6 +246,98 @@ TEST(StationServer, RobotWaitsAndReconnects) {
   EXPECT_EQ(client.counts().acknowledged, stream.size());
 }
 
+// Nodes per layer of a graph, to compare maps.
+std::map<Layer, size_t> nodesPerLayer(const SceneGraph& graph) {
+  std::map<Layer, size_t> counts;
+  for (const Layer layer : kAllLayers) counts[layer] = graph.numNodes(layer);
+  return counts;
+}
+
+// The map of robot a's whole stream sent by one uninterrupted client.
+const std::map<Layer, size_t>& uninterruptedMap() {
+  static const std::map<Layer, size_t> map = [] {
+    Served served(1);
+    RobotClient client(kA, kProvidesAll, clientOptions(served.endpoint()));
+    EXPECT_TRUE(sendStream(client, 0));
+    return nodesPerLayer(served.finish().graph);
+  }();
+  return map;
+}
+
+// A robot process killed mid-mission and started again (a new epoch, an empty outbox): the new
+// process's map holds what the old one made, also the updates it never sent; the station asks
+// it for a snapshot, which brings those. Nothing is lost, nothing applied twice, and the map is
+// the uninterrupted one.
+TEST(StationServer, RestartedRobotIsRecoveredBySnapshot) {
+  const std::vector<RobotUpdate>& stream = tiny().streams[0];
+  ASSERT_GE(stream.size(), 12u);
+  Served served(1);
+  {
+    RobotClientOptions first = clientOptions(served.endpoint());
+    first.epoch = 1;
+    RobotClient client(kA, kProvidesAll, first);
+    for (size_t i = 0; i < 5; ++i) ASSERT_TRUE(client.enqueue(stream[i]));
+    const auto end = std::chrono::steady_clock::now() + 5s;
+    while (client.unacknowledged() > 0 && std::chrono::steady_clock::now() < end)
+      client.pump(20ms);
+    ASSERT_EQ(client.unacknowledged(), 0u);
+  }  // killed: updates 5 to 9 are made while it is down, and never sent
+  RobotClientOptions second = clientOptions(served.endpoint());
+  second.epoch = 2;
+  RobotClient client(kA, kProvidesAll, second);
+  for (size_t i = 0; i < 10; ++i) client.fold(stream[i]);
+  client.pump(300ms);  // welcomed, asked for a snapshot, sends it
+  for (size_t i = 10; i < stream.size(); ++i) ASSERT_TRUE(client.enqueue(stream[i]));
+  ASSERT_TRUE(client.finish(10s));
+  ASSERT_TRUE(served.ended(5s));
+  EXPECT_EQ(served.counts().snapshots_requested, 1u);
+  EXPECT_EQ(client.counts().snapshots, 1u);
+  size_t sent_snapshots = 0;  // of the stream's own, those sent (the first update is one)
+  for (size_t i = 0; i < stream.size(); ++i) sent_snapshots += (i < 5 || i >= 10) && stream[i].is_snapshot;
+  EXPECT_EQ(served.counts().robots.at(kA).snapshots, sent_snapshots + 1);
+  EXPECT_EQ(served.counts().robots.at(kA).next_sequence, stream.size());
+  const StationResult result = served.finish();
+  EXPECT_EQ(result.counts.duplicates, 0u);
+  EXPECT_EQ(result.counts.rejected, 0u);
+  EXPECT_EQ(result.counts.behindGap(), 0u);
+  EXPECT_EQ(result.counts.offered, result.counts.appliedTotal());
+  // 5 before the kill, one snapshot for 5 to 9, then each later one.
+  EXPECT_EQ(result.counts.appliedTotal(), 5u + 1u + (stream.size() - 10));
+  EXPECT_EQ(nodesPerLayer(result.graph), uninterruptedMap());
+}
+
+// An update the robot made but never had in its outbox (lost on the robot): the station holds
+// the later ones beyond the gap and asks for a snapshot (once the gap has stood for gap_s, or
+// when the robot says BYE with it), and the snapshot fills it; the map is the uninterrupted one.
+TEST(StationServer, GapIsFilledBySnapshot) {
+  const std::vector<RobotUpdate>& stream = tiny().streams[0];
+  StationServerOptions options;
+  options.gap_s = 0.3;
+  Served served(1, options);
+  RobotClient client(kA, kProvidesAll, clientOptions(served.endpoint()));
+  for (size_t i = 0; i < stream.size(); ++i) {
+    if (i == 5)
+      client.fold(stream[i]);
+    else
+      ASSERT_TRUE(client.enqueue(stream[i]));
+    client.pump(0ms);
+  }
+  client.pump(1s);  // the gap stands for gap_s: the station asks, the robot answers
+  ASSERT_TRUE(client.finish(10s));
+  ASSERT_TRUE(served.ended(5s));
+  EXPECT_EQ(served.counts().snapshots_requested, 1u);
+  const StationResult result = served.finish();
+  EXPECT_EQ(result.counts.rejected, 0u);
+  EXPECT_EQ(result.counts.behindGap(), 0u);
+  EXPECT_EQ(nodesPerLayer(result.graph), uninterruptedMap());
+  bool asked = false;
+  for (const std::string& line : served.log())
+    asked |= line.find("asked robot a for a snapshot: update 5 is missing, " +
+                       std::to_string(stream.size() - 6) + " later ones held, for 0.3 s") !=
+             std::string::npos;
+  EXPECT_TRUE(asked);
+}
+
 // CURVE: the station admits only the keys it knows, and a key speaks only for its robot. Robot
 // a with its key streams its map; a robot with a key the station does not know is never welcomed;
 // robot a's key saying HELLO for robot b is refused, which ends that robot's mission.

@@ -84,6 +84,24 @@ TEST_F(JournalTest, ASequenceGoesInOnce) {
   EXPECT_EQ(journal.value()->size(), 2u);
 }
 
+// A snapshot may carry the sequence of a delta held already (the station asked for it across a
+// gap): it goes in once beside it, and comes back marked as a snapshot.
+TEST_F(JournalTest, ASnapshotGoesInBesideTheDeltaOfItsSequence) {
+  auto journal = Journal::open(path());
+  ASSERT_TRUE(journal.ok());
+  ASSERT_TRUE(journal.value()->append(entry(2, 7)).ok());
+  JournalEntry snapshot = entry(2, 7);
+  snapshot.snapshot = true;
+  ASSERT_TRUE(journal.value()->append(snapshot).ok());
+  const Status again = journal.value()->append(snapshot);
+  ASSERT_FALSE(again.ok());
+  EXPECT_EQ(again.message(), path() + ": snapshot 7 of robot c is in the journal already");
+  const std::vector<JournalEntry> entries = everything(*journal.value());
+  ASSERT_EQ(entries.size(), 2u);
+  EXPECT_FALSE(entries[0].snapshot);
+  EXPECT_TRUE(entries[1].snapshot);
+}
+
 // What is not a journal is refused with the file named: a text file, a folder, another
 // database's table of the same name.
 TEST_F(JournalTest, RefusesWhatIsNotAJournal) {

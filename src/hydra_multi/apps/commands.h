@@ -154,6 +154,10 @@ struct RobotCommandOptions {
   double timeout_s = 60.0;  ///< give up when the station has not taken everything by then
   std::string key;          ///< the robot's secret key (CURVE); empty: none
   std::string station_key;  ///< the station's public key (with `key`)
+  /// Unix time the first update is due (with speed > 0); updates due before the process started
+  /// are folded into the robot's map, not sent. Absent: the process's start.
+  std::optional<double> mission_start_s;
+  bool full_resend = false;  ///< the whole map every update
   bool quiet = false;
 };
 int runRobotCommand(const RobotCommandOptions& options);

@@ -271,6 +271,13 @@ int main(int argc, char** argv) {
                 "the station's public key (with --key)")
       ->needs(robot_key);
   robot_key->needs(robot_cmd->get_option("--station-key"));
+  cli.real(robot_cmd, "--mission-start", robot.mission_start_s,
+           "the mission's start (Unix time, s): the first update is due then, and those due "
+           "before this process started are the robot's map already (a restarted robot: sent as "
+           "a snapshot when the station asks); needs --speed above 0",
+           {0.0, 1e11});
+  robot_cmd->add_flag("--full-resend", robot.full_resend,
+                      "send the robot's whole map every update, as the paper's robots do");
   robot_cmd->add_flag("--quiet", robot.quiet, "no progress lines on stderr");
 
   TrialsOptions trials;
@@ -316,6 +323,8 @@ int main(int argc, char** argv) {
   }
   if (*pgo_cmd && pgo_seed->count() > 0 && outliers->count() == 0)
     return cli.refuse("pgo", "--seed applies to --outliers only (the seed of the injection)");
+  if (*robot_cmd && robot.mission_start_s && robot.speed <= 0.0)
+    return cli.refuse("robot", "--mission-start needs --speed above 0 (robot time on the clock)");
   if (*trials_cmd) {
     const auto range = parseSeedRange(seeds, kMaxSeeds);  // checked while parsing
     trials.first_seed = range.value().first;

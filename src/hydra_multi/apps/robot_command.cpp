@@ -1,7 +1,10 @@
 // `hydra-multi robot --dataset DIR --robot R --connect ENDPOINT [--speed X]`: robot R of a recorded
 // dataset played as a live robot (net/robot_client.h): its updates sent to a station as its robot
 // time comes (`--speed 0`: as fast as the station acknowledges), kept until acknowledged and sent
-// again after a reconnect; BYE once the station holds them all.
+// again after a reconnect; BYE once the station holds them all. `--mission-start T` puts the first
+// update at Unix time T: a robot process restarted mid-mission takes the updates due before it
+// started as its map (it made them while down) and sends them as a snapshot when the station
+// asks. `--full-resend` sends the whole map every update (the paper's robots).
 
 #include <chrono>
 #include <iostream>
@@ -36,6 +39,7 @@ int runRobotCommand(const RobotCommandOptions& o) {
 
   net::RobotClientOptions options;
   options.connect = o.connect;
+  options.full_resend = o.full_resend;
   if (!o.key.empty()) {
     auto secret = net::readKey(o.key);
     if (!secret) return fail(secret.error());
@@ -46,11 +50,29 @@ int runRobotCommand(const RobotCommandOptions& o) {
   }
   if (!o.quiet) options.log = [](const std::string& line) { std::cerr << line << std::endl; };
   net::RobotClient client(entry->robot, updates.front().provided_layers, options);
-  const Clock::time_point start = Clock::now();
-  const Clock::time_point deadline = start + std::chrono::duration_cast<Clock::duration>(
-                                                 std::chrono::duration<double>(o.timeout_s));
+  const Clock::time_point now = Clock::now();
+  const Clock::time_point deadline = now + std::chrono::duration_cast<Clock::duration>(
+                                               std::chrono::duration<double>(o.timeout_s));
+  // The mission's start on this process's clock.
+  Clock::time_point start = now;
+  if (o.mission_start_s) {
+    const double unix_now =
+        std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+    start = now + std::chrono::duration_cast<Clock::duration>(
+                      std::chrono::duration<double>(*o.mission_start_s - unix_now));
+  }
   const int64_t first_time = updates.front().time_ns;
+  size_t folded = 0;
   for (const RobotUpdate& u : updates) {
+    if (o.speed > 0.0) {
+      const auto due = start + std::chrono::nanoseconds(
+                                   static_cast<int64_t>(double(u.time_ns - first_time) / o.speed));
+      if (due < now) {  // made while this process was down: the map has it
+        client.fold(u);
+        ++folded;
+        continue;
+      }
+    }
     if (o.speed > 0.0) {
       const auto due = start + std::chrono::nanoseconds(
                                    static_cast<int64_t>(double(u.time_ns - first_time) / o.speed));
@@ -67,8 +89,10 @@ int runRobotCommand(const RobotCommandOptions& o) {
   const bool finished = client.finish(std::max(left, std::chrono::milliseconds(0)));
   const net::RobotClientCounts& c = client.counts();
   std::cout << "robot " << o.robot << " to " << o.connect << ": " << updates.size() << " updates, "
-            << c.sent << " sent, " << c.resent << " sent again, " << c.acknowledged
-            << " acknowledged, " << c.refused << " refused, " << c.connections
+            << (folded ? std::to_string(folded) + " made before this process started, " : "")
+            << c.sent << " sent, " << c.resent << " sent again, " << c.snapshots
+            << " snapshots asked for, " << c.acknowledged << " acknowledged, " << c.refused
+            << " refused, " << c.connections
             << (c.connections == 1 ? " connection, " : " connections, ") << c.bytes << " bytes\n";
   if (!client.fatal().empty()) return fail(o.connect + ": " + client.fatal());
   if (!finished) {

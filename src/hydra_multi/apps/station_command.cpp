@@ -75,7 +75,7 @@ int runStationCommand(const StationCommandOptions& o) {
     const int64_t now = std::chrono::duration_cast<std::chrono::nanoseconds>(
                             std::chrono::system_clock::now().time_since_epoch())
                             .count();
-    return journal.value()->append({u.robot, epoch, u.sequence, payload, now});
+    return journal.value()->append({u.robot, epoch, u.sequence, payload, now, u.is_snapshot});
   };
   auto server = net::StationServer::create(station, server_options);
   if (!server) return fail(server.error());
@@ -89,7 +89,7 @@ int runStationCommand(const StationCommandOptions& o) {
           e.robot.str() + " does not decode; left out" + (u ? "" : ": " + u.error()));
       return;
     }
-    server.value()->hold(e.robot, e.sequence, u.value().is_snapshot);
+    server.value()->hold(e.robot, e.epoch, e.sequence, u.value().is_snapshot);
     station.submit(std::move(u).value());
     ++replayed;
   });
@@ -128,9 +128,14 @@ int runStationCommand(const StationCommandOptions& o) {
   nlohmann::ordered_json robots = nlohmann::ordered_json::object();
   size_t duplicates = 0;
   for (const auto& [robot, c] : counts.robots) {
-    robots[robot.str()] = {{"updates", c.updates},         {"duplicates", c.duplicates},
-                           {"connections", c.connections}, {"bytes", c.bytes},
-                           {"said_bye", c.said_bye},       {"next_sequence", c.next_sequence}};
+    robots[robot.str()] = {{"updates", c.updates},
+                           {"snapshots", c.snapshots},
+                           {"snapshots_requested", c.snapshots_requested},
+                           {"duplicates", c.duplicates},
+                           {"connections", c.connections},
+                           {"bytes", c.bytes},
+                           {"said_bye", c.said_bye},
+                           {"next_sequence", c.next_sequence}};
     duplicates += c.duplicates;
   }
   const nlohmann::ordered_json summary = {{"endpoint", endpoint},
@@ -142,6 +147,7 @@ int runStationCommand(const StationCommandOptions& o) {
                                           {"updates_refused", counts.refused},
                                           {"updates_rejected", result.counts.rejected},
                                           {"updates_behind_gap", result.counts.behindGap()},
+                                          {"snapshots_requested", counts.snapshots_requested},
                                           {"bytes_received", counts.bytes},
                                           {"journal", journal_path},
                                           {"journal_entries", journal.value()->size()},

@@ -21,6 +21,7 @@ size_t fixedFieldBytes(MessageType type) {
   if (type == MessageType::kUpdate) return 16;
   if (type == MessageType::kRefuse) return 17;
   if (type == MessageType::kAck) return 24;
+  if (type == MessageType::kSnapshotRequest) return 16;
   return 0;
 }
 
@@ -42,7 +43,10 @@ std::string header(const Message& m) {
   w.raw("HM");
   w.u8(kProtocolVersion);
   w.u8(static_cast<uint8_t>(m.type));
-  if (fixedFieldBytes(m.type) > 0) {
+  if (m.type == MessageType::kSnapshotRequest) {
+    w.u64(m.epoch);
+    w.u64(m.next_sequence);
+  } else if (fixedFieldBytes(m.type) > 0) {
     w.u64(m.epoch);
     w.u64(m.sequence);
   }
@@ -102,6 +106,8 @@ const char* messageTypeName(MessageType type) {
       return "HEARTBEAT";
     case MessageType::kBye:
       return "BYE";
+    case MessageType::kSnapshotRequest:
+      return "SNAPSHOT_REQUEST";
   }
   return "?";
 }
@@ -171,6 +177,14 @@ Message ack(uint64_t epoch, uint64_t sequence, uint64_t next_sequence) {
   return m;
 }
 
+Message snapshotRequest(uint64_t epoch, uint64_t next_sequence) {
+  Message m;
+  m.type = MessageType::kSnapshotRequest;
+  m.epoch = epoch;
+  m.next_sequence = next_sequence;
+  return m;
+}
+
 Message heartbeat() { return Message{}; }
 
 Message bye() {
@@ -213,7 +227,7 @@ Result<Message> decodeMessage(const std::vector<std::string>& frames) {
                  std::to_string(kProtocolVersion)};
   const uint8_t type = static_cast<uint8_t>(head[3]);
   if (type < static_cast<uint8_t>(MessageType::kHello) ||
-      type > static_cast<uint8_t>(MessageType::kBye))
+      type > static_cast<uint8_t>(MessageType::kSnapshotRequest))
     return Error{"frame 0: unknown message type " + std::to_string(type)};
   Message m;
   m.type = static_cast<MessageType>(type);
@@ -229,7 +243,10 @@ Result<Message> decodeMessage(const std::vector<std::string>& frames) {
     if (fixedFieldBytes(m.type) > 0) {
       io::ByteReader r(std::string_view(head).substr(kHeaderBytes), kHeaderBytes);
       m.epoch = r.u64("epoch");
-      m.sequence = r.u64("sequence");
+      if (m.type == MessageType::kSnapshotRequest)
+        m.next_sequence = r.u64("next sequence");
+      else
+        m.sequence = r.u64("sequence");
       if (m.type == MessageType::kAck) m.next_sequence = r.u64("next sequence");
       if (m.type == MessageType::kRefuse) {
         const uint8_t code = r.u8("code");

@@ -14,6 +14,9 @@
 //   HEARTBEAT  both ways          header
 //   BYE        both ways          header                 (the robot's mission is over; the
 //                                                          station answers with BYE)
+//   SNAPSHOT_REQUEST station -> robot header, epoch, next (the station lacks update next and the
+//                                                         robot has no way to resend it: send a
+//                                                         snapshot of the robot's whole map)
 
 #include <cstdint>
 #include <optional>
@@ -37,6 +40,7 @@ enum class MessageType : uint8_t {
   kAck = 5,
   kHeartbeat = 6,
   kBye = 7,
+  kSnapshotRequest = 8,
 };
 const char* messageTypeName(MessageType type);
 
@@ -60,7 +64,8 @@ struct Message {
   /// HELLO: robot and layers it provides.
   RobotId robot;
   uint32_t provided_layers = 0;
-  /// WELCOME, ACK: the station holds every update of this robot before it (0: none).
+  /// WELCOME, ACK, SNAPSHOT_REQUEST: the station holds every update of this robot before it (0:
+  /// none).
   uint64_t next_sequence = 0;
   std::string text;                          ///< REFUSE: the reason; WELCOME: the station's name
   RefuseCode code = RefuseCode::kMalformed;  ///< REFUSE
@@ -73,6 +78,7 @@ Message refuse(RefuseCode code, std::string reason, uint64_t epoch = 0,
                uint64_t sequence = kNoSequence);
 Message update(uint64_t epoch, uint64_t sequence, std::string payload);
 Message ack(uint64_t epoch, uint64_t sequence, uint64_t next_sequence);
+Message snapshotRequest(uint64_t epoch, uint64_t next_sequence);
 Message heartbeat();
 Message bye();
 

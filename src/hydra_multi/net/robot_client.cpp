@@ -8,6 +8,7 @@
 #include <zmq_addon.hpp>
 
 #include "hydra_multi/dsg/io/binary_format.h"
+#include "hydra_multi/dsg/robot_stream.h"
 #include "hydra_multi/net/interruptible_poll.h"
 #include "hydra_multi/net/keys.h"
 #include "hydra_multi/net/protocol.h"
@@ -54,6 +55,9 @@ struct RobotClient::Impl {
   void receive();
   void handle(const Message& m);
   void sendUpdates();
+  void answerSnapshotRequest(const Message& m);
+  // Adds an update to the robot's map (what a snapshot is built from).
+  void addToMap(const RobotUpdate& update);
 
   RobotId robot;
   uint32_t provided_layers;
@@ -68,8 +72,44 @@ struct RobotClient::Impl {
   size_t in_flight = 0;
   std::string fatal;
   bool bye_answered = false;
+  RobotStreamState map;  // every update enqueued or folded, as one snapshot
+  std::string map_broken;  // why `map` is not the robot's map (an update did not add); empty: it is
   RobotClientCounts counts;
 };
+
+void RobotClient::Impl::addToMap(const RobotUpdate& update) {
+  if (!map_broken.empty() && !update.is_snapshot) return;
+  if (Status added = map.add(update); !added) {
+    map_broken = added.message();
+    log("no snapshot can be sent until the next one in the stream: " + map_broken);
+  } else {
+    map_broken.clear();
+  }
+}
+
+void RobotClient::Impl::answerSnapshotRequest(const Message& m) {
+  if (map.updatesAdded() == 0 || !map_broken.empty()) {
+    log("the station asked for a snapshot; there is none to send" +
+        (map_broken.empty() ? std::string(" (no update yet)") : ": " + map_broken));
+    return;
+  }
+  RobotUpdate snapshot = map.snapshot();
+  if (snapshot.sequence < m.next_sequence) {
+    log("the station asked for a snapshot, and holds everything (before " +
+        std::to_string(m.next_sequence) + ") already");
+    return;
+  }
+  // The snapshot stands for every update up to its sequence: it replaces them in the outbox.
+  for (auto it = outbox.begin(); it != outbox.end() && it->first <= snapshot.sequence;) {
+    if (it->second.in_flight) --in_flight;
+    it = outbox.erase(it);
+  }
+  outbox[snapshot.sequence].payload = io::encodeRobotUpdateBinary(snapshot);
+  ++counts.snapshots;
+  log("the station asked for a snapshot: sending one of every update up to " +
+      std::to_string(snapshot.sequence) + " (" +
+      std::to_string(outbox[snapshot.sequence].payload.size()) + " bytes)");
+}
 
 bool RobotClient::Impl::send(const Message& m) {
   if (!socket) return false;
@@ -181,6 +221,9 @@ void RobotClient::Impl::handle(const Message& m) {
     case MessageType::kBye:
       bye_answered = true;
       return;
+    case MessageType::kSnapshotRequest:
+      answerSnapshotRequest(m);
+      return;
     default:
       return;  // heartbeats: being heard is all
   }
@@ -220,10 +263,16 @@ RobotClient::RobotClient(RobotId robot, uint32_t provided_layers, RobotClientOpt
 RobotClient::~RobotClient() = default;
 
 bool RobotClient::enqueue(const RobotUpdate& update) {
-  if (impl_->outbox.size() >= impl_->options.outbox_limit) return false;
-  impl_->outbox[update.sequence].payload = io::encodeRobotUpdateBinary(update);
+  Impl& c = *impl_;
+  if (c.outbox.size() >= c.options.outbox_limit) return false;
+  c.addToMap(update);
+  // --full-resend: the whole map every time, as the paper's robots send it.
+  const bool whole = c.options.full_resend && c.map_broken.empty();
+  c.outbox[update.sequence].payload = io::encodeRobotUpdateBinary(whole ? c.map.snapshot() : update);
   return true;
 }
+
+void RobotClient::fold(const RobotUpdate& update) { impl_->addToMap(update); }
 
 void RobotClient::pump(std::chrono::milliseconds budget) {
   Impl& c = *impl_;

@@ -5,7 +5,10 @@
 // ones at a time, and sends an unacknowledged one again after `resend_s`. A station silent for
 // `missed_heartbeats` beats is taken as gone: the client reconnects after a backoff that doubles
 // from `backoff_min_s` to `backoff_max_s`, and sends again whatever the new WELCOME does not
-// cover. Single-threaded: the caller drives it with pump(). ZeroMQ stays inside this unit.
+// cover. It keeps the robot's map as one snapshot of every update (dsg/robot_stream.h): when the
+// station asks for a snapshot (it lacks updates the outbox no longer has: the robot process
+// restarted, or one was lost), that snapshot replaces every outbox entry up to its sequence.
+// Single-threaded: the caller drives it with pump(). ZeroMQ stays inside this unit.
 
 #include <chrono>
 #include <cstdint>
@@ -29,6 +32,8 @@ struct RobotClientOptions {
   std::function<void(const std::string&)> log;
   /// CURVE (keys.h): the robot's secret key and the station's public key. Empty: none.
   std::string secret_key, station_key;
+  /// Send the robot's whole map (a snapshot) in place of each update, as the paper's robots do.
+  bool full_resend = false;
 };
 
 struct RobotClientCounts {
@@ -36,6 +41,7 @@ struct RobotClientCounts {
   size_t resent = 0;  ///< sent again (after a reconnect or `resend_s`)
   size_t acknowledged = 0;
   size_t refused = 0;      ///< updates the station refused (dropped from the outbox, logged)
+  size_t snapshots = 0;    ///< sent because the station asked for one
   size_t connections = 0;  ///< WELCOMEs
   size_t bytes = 0;        ///< of every message sent
 };
@@ -47,8 +53,12 @@ class RobotClient {
   RobotClient(const RobotClient&) = delete;
   RobotClient& operator=(const RobotClient&) = delete;
 
-  /// Puts an update in the outbox; false (nothing added) when the outbox is full.
+  /// Puts an update in the outbox (and in the robot's map); false (nothing added) when the
+  /// outbox is full.
   bool enqueue(const RobotUpdate& update);
+  /// Adds an update to the robot's map only: one it made while its process was down (a
+  /// restarted robot's map goes on where it was; what it has not sent, a snapshot brings).
+  void fold(const RobotUpdate& update);
   /// Works the connection for about `budget`: connects, sends, handles the station's messages,
   /// heartbeats, reconnects.
   void pump(std::chrono::milliseconds budget);

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <zmq.hpp>
 #include <zmq_addon.hpp>
 
@@ -19,6 +20,12 @@ double secondsSince(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
+std::string seconds(double s) {
+  std::ostringstream text;
+  text << s;
+  return text.str();
+}
+
 // A connection: what its HELLO said, and when it was last heard and sent to.
 struct Session {
   size_t number = 0;                 // for logs: "connection 3"
@@ -26,15 +33,25 @@ struct Session {
   bool welcomed = false;
   RobotId robot;
   uint64_t epoch = 0;
+  bool updated = false;  // an UPDATE arrived since the WELCOME
   Clock::time_point last_heard = Clock::now(), last_sent = Clock::now();
 };
 
-// The updates of a robot the station holds: every one before `next`, and those in `ahead`.
+// The updates of a robot the station holds: every one before `next`, and those in `ahead`; the
+// epoch of the robot process that last said HELLO (0: none yet), and when `next` last moved.
 struct Held {
   uint64_t next = 0;
   std::set<uint64_t> ahead;
+  uint64_t epoch = 0;
+  Clock::time_point progress = Clock::now(), requested = Clock::now() - std::chrono::hours(1);
+  bool empty() const { return next == 0 && ahead.empty(); }
   bool has(uint64_t sequence) const { return sequence < next || ahead.count(sequence) > 0; }
+  // Held already: a delta it holds, or a snapshot that covers nothing new.
+  bool holds(uint64_t sequence, bool snapshot) const {
+    return snapshot ? sequence < next : has(sequence);
+  }
   void add(uint64_t sequence, bool snapshot) {
+    const uint64_t before = next;
     if (snapshot && sequence >= next) {  // a snapshot stands for everything before it
       next = sequence + 1;
       ahead.erase(ahead.begin(), ahead.lower_bound(next));
@@ -45,6 +62,7 @@ struct Held {
       if (*ahead.begin() == next) ++next;
       ahead.erase(ahead.begin());
     }
+    if (next != before) progress = Clock::now();
   }
 };
 
@@ -66,6 +84,7 @@ struct StationServer::Impl {
   void handle(const std::string& id, const std::vector<std::string>& frames);
   void onHello(const std::string& id, Session& session, const Message& m);
   void onUpdate(const std::string& id, Session& session, const Message& m);
+  void requestSnapshot(const std::string& id, Session& session, const std::string& why);
   void housekeeping();
   void authenticate();  // answers one ZAP request
   std::string who(const Session& s) const {
@@ -155,10 +174,27 @@ void StationServer::Impl::onHello(const std::string& id, Session& session, const
   RobotLinkCounts& robot = counts.robots[m.robot];
   ++robot.connections;
   robot.said_bye = false;
-  const uint64_t next = held[m.robot].next;
+  Held& h = held[m.robot];
   log("station: robot " + m.robot.str() + " connected (" + who(session) + ", epoch " +
-      std::to_string(m.epoch) + "), next update " + std::to_string(next));
-  send(id, session, welcome(next));
+      std::to_string(m.epoch) + "), next update " + std::to_string(h.next));
+  session.updated = false;
+  send(id, session, welcome(h.next));
+  // A new run of a robot process the station holds updates of: what it lost with its outbox
+  // only a snapshot of its map can bring back.
+  const bool restarted = h.epoch != 0 && h.epoch != m.epoch && !h.empty();
+  h.epoch = m.epoch;
+  if (restarted) requestSnapshot(id, session, "it restarted (a new epoch)");
+}
+
+void StationServer::Impl::requestSnapshot(const std::string& id, Session& session,
+                                          const std::string& why) {
+  Held& h = held[session.robot];
+  h.requested = Clock::now();
+  ++counts.snapshots_requested;
+  ++counts.robots[session.robot].snapshots_requested;
+  log("station: asked robot " + session.robot.str() + " for a snapshot: " + why +
+      "; it holds every update before " + std::to_string(h.next));
+  send(id, session, snapshotRequest(session.epoch, h.next));
 }
 
 void StationServer::Impl::onUpdate(const std::string& id, Session& session, const Message& m) {
@@ -186,7 +222,9 @@ void StationServer::Impl::onUpdate(const std::string& id, Session& session, cons
         m.sequence);
   RobotLinkCounts& robot = counts.robots[session.robot];
   Held& h = held[session.robot];
-  if (h.has(u.sequence)) {
+  const bool first = !session.updated;
+  session.updated = true;
+  if (h.holds(u.sequence, u.is_snapshot)) {
     ++robot.duplicates;
   } else {
     if (options.persist) {
@@ -199,10 +237,17 @@ void StationServer::Impl::onUpdate(const std::string& id, Session& session, cons
     const bool snapshot = u.is_snapshot;
     station.submit(std::move(decoded).value());
     ++robot.updates;
+    robot.snapshots += snapshot ? 1 : 0;
     h.add(m.sequence, snapshot);
   }
   robot.next_sequence = h.next;
   send(id, session, ack(session.epoch, m.sequence, h.next));
+  // A robot sends its outbox in order from what WELCOME said the station holds: a first update
+  // past `next` means the robot has no longer got the ones between.
+  if (first && m.sequence > h.next && !u.is_snapshot)
+    requestSnapshot(id, session,
+                    "its first update since HELLO is " + std::to_string(m.sequence) +
+                        ", and the station lacks " + std::to_string(h.next));
 }
 
 void StationServer::Impl::handle(const std::string& id, const std::vector<std::string>& frames) {
@@ -233,14 +278,23 @@ void StationServer::Impl::handle(const std::string& id, const std::vector<std::s
       return onUpdate(id, session, m);
     case MessageType::kHeartbeat:
       return;
-    case MessageType::kBye:
+    case MessageType::kBye: {
       if (!session.welcomed) return refuse(id, session, RefuseCode::kNoHello, "BYE before HELLO");
+      // A mission cannot end with a gap: the robot is asked for a snapshot and says BYE again.
+      const Held& h = held[session.robot];
+      if (!h.ahead.empty()) {
+        if (secondsSince(h.requested) > options.heartbeat_s)
+          requestSnapshot(id, session,
+                          "it said BYE, and update " + std::to_string(h.next) + " is missing");
+        return;
+      }
       counts.robots[session.robot].said_bye = true;
       log("station: robot " + session.robot.str() + " said BYE (" +
           std::to_string(counts.robots[session.robot].updates) + " updates)");
       send(id, session, bye());  // the answer the robot waits for
       sessions.erase(id);
       return;
+    }
     default:
       return refuse(id, session, RefuseCode::kMalformed,
                     std::string(messageTypeName(m.type)) + " is the station's to send");
@@ -252,10 +306,19 @@ void StationServer::Impl::housekeeping() {
   for (auto it = sessions.begin(); it != sessions.end();) {
     Session& s = it->second;
     if (secondsSince(s.last_heard) > gone_s) {
-      log("station: " + who(s) + " silent for " + std::to_string(static_cast<int>(gone_s)) +
-          " s, taken as gone");
+      log("station: " + who(s) + " silent for " + seconds(gone_s) + " s, taken as gone");
       it = sessions.erase(it);
       continue;
+    }
+    // A gap that resends have not filled: the robot has lost what is missing.
+    if (s.welcomed) {
+      const Held& h = held[s.robot];
+      if (!h.ahead.empty() && secondsSince(h.progress) > options.gap_s &&
+          secondsSince(h.requested) > options.gap_s)
+        requestSnapshot(it->first, s,
+                        "update " + std::to_string(h.next) + " is missing, " +
+                            std::to_string(h.ahead.size()) + " later ones held, for " +
+                            seconds(options.gap_s) + " s");
     }
     if (secondsSince(s.last_sent) >= options.heartbeat_s) send(it->first, s, heartbeat());
     ++it;
@@ -295,9 +358,10 @@ StationServer::~StationServer() = default;
 const std::string& StationServer::endpoint() const { return impl_->endpoint; }
 const StationServerCounts& StationServer::counts() const { return impl_->counts; }
 
-void StationServer::hold(RobotId robot, uint64_t sequence, bool snapshot) {
+void StationServer::hold(RobotId robot, uint64_t epoch, uint64_t sequence, bool snapshot) {
   Held& h = impl_->held[robot];
-  if (!h.has(sequence)) h.add(sequence, snapshot);
+  if (!h.holds(sequence, snapshot)) h.add(sequence, snapshot);
+  h.epoch = epoch;
   impl_->counts.robots[robot].next_sequence = h.next;
 }
 

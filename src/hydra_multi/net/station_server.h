@@ -8,7 +8,10 @@
 // it never stops the station. Heartbeats go both ways; a robot silent for `missed_heartbeats`
 // beats is taken as gone (its updates stay; it may come back). With CURVE keys, a ZAP handler
 // admits only the robots' keys it knows, and a connection may speak only for the robot of its
-// key. ZeroMQ stays inside this unit.
+// key. The station asks a robot for a snapshot of its map (SNAPSHOT_REQUEST) when the robot's
+// process restarted (a HELLO of a new epoch, while the station holds updates of it), when the
+// first update after a HELLO skips what the station lacks, and when a gap stays unfilled for
+// `gap_s`. ZeroMQ stays inside this unit.
 //
 // Durability: with `persist` (the station's journal, store/journal.h) an update is acknowledged
 // only once persist() has stored it; without, once it is on the Station's ingest queue.
@@ -28,6 +31,9 @@ struct StationServerOptions {
   size_t max_message_bytes = 64u << 20;      ///< larger messages are refused
   double heartbeat_s = 1.0;
   int missed_heartbeats = 3;  ///< silent for this many beats: gone
+  /// A gap (an update missing, later ones held) this long without progress: ask the robot for a
+  /// snapshot (twice the robot's resend time: resends had their chance).
+  double gap_s = 10.0;
   std::function<void(const std::string&)> log;
   /// Stores an accepted update (its robot, epoch, sequence and payload record) before it is
   /// handed on and acknowledged; an error refuses it (`not_stored`) and it is not acknowledged.
@@ -44,7 +50,9 @@ struct RobotLinkCounts {
   size_t updates = 0;      ///< updates handed to the station
   size_t duplicates = 0;   ///< updates held already (resent after a reconnect), acknowledged
   size_t connections = 0;  ///< HELLOs accepted
-  size_t bytes = 0;        ///< of every message from it
+  size_t snapshots = 0;    ///< of the updates, snapshots
+  size_t snapshots_requested = 0;
+  size_t bytes = 0;  ///< of every message from it
   bool said_bye = false;
   uint64_t next_sequence = 0;  ///< every update before it is held
 };
@@ -53,6 +61,7 @@ struct StationServerCounts {
   std::map<RobotId, RobotLinkCounts> robots;
   std::map<std::string, size_t> refused;  ///< by reason: malformed, too_large, ... (PROTOCOL.md)
   size_t bytes = 0;                       ///< of every message received
+  size_t snapshots_requested = 0;
 };
 
 class StationServer {
@@ -69,8 +78,9 @@ class StationServer {
   void serve(const std::function<bool()>& stop, size_t expect_robots = 0);
   const StationServerCounts& counts() const;
   /// Marks an update as held already (replayed from the journal before serving), so that its
-  /// robot is welcomed past it and a resend of it is not handed on again.
-  void hold(RobotId robot, uint64_t sequence, bool snapshot);
+  /// robot is welcomed past it and a resend of it is not handed on again; `epoch`: the robot
+  /// process's that sent it (a HELLO of another epoch is a restarted robot).
+  void hold(RobotId robot, uint64_t epoch, uint64_t sequence, bool snapshot);
 
  private:
   struct Impl;

@@ -13,7 +13,8 @@ constexpr const char* kSchema =
     " sequence INTEGER NOT NULL,"
     " payload BLOB NOT NULL,"
     " arrival_ns INTEGER NOT NULL,"
-    " UNIQUE (robot, sequence))";
+    " snapshot INTEGER NOT NULL,"
+    " UNIQUE (robot, sequence, snapshot))";
 
 // SQLite integers are signed 64-bit; sequences and epochs are stored bit for bit.
 int64_t toSql(uint64_t v) { return static_cast<int64_t>(v); }
@@ -59,8 +60,8 @@ Result<std::unique_ptr<Journal>> Journal::open(const std::string& path, Durabili
   if (Status s = impl->exec(kSchema, "not a journal of robot updates"); !s)
     return Error{s.message()};
   if (sqlite3_prepare_v2(impl->db,
-                         "INSERT INTO updates (robot, epoch, sequence, payload, arrival_ns) "
-                         "VALUES (?, ?, ?, ?, ?)",
+                         "INSERT INTO updates (robot, epoch, sequence, payload, arrival_ns, snapshot) "
+                         "VALUES (?, ?, ?, ?, ?, ?)",
                          -1, &impl->insert, nullptr) != SQLITE_OK)
     return Error{impl->error("not a journal of robot updates (its table has other columns)")};
   return std::unique_ptr<Journal>(new Journal(std::move(impl)));
@@ -79,13 +80,14 @@ Status Journal::append(const JournalEntry& e) {
   sqlite3_bind_int64(s, 3, toSql(e.sequence));
   sqlite3_bind_blob64(s, 4, e.payload.data(), e.payload.size(), SQLITE_STATIC);
   sqlite3_bind_int64(s, 5, e.arrival_ns);
+  sqlite3_bind_int(s, 6, e.snapshot ? 1 : 0);
   const int rc = sqlite3_step(s);  // autocommit: one transaction
   sqlite3_reset(s);
   sqlite3_clear_bindings(s);
   if (rc == SQLITE_DONE) return Status::Ok();
   if (rc == SQLITE_CONSTRAINT)
-    return Error{impl_->path + ": update " + std::to_string(e.sequence) + " of robot " + robot +
-                 " is in the journal already"};
+    return Error{impl_->path + ": " + (e.snapshot ? "snapshot " : "update ") +
+                 std::to_string(e.sequence) + " of robot " + robot + " is in the journal already"};
   return Error{
       impl_->error("cannot append update " + std::to_string(e.sequence) + " of robot " + robot)};
 }
@@ -93,7 +95,7 @@ Status Journal::append(const JournalEntry& e) {
 Status Journal::replay(const std::function<void(JournalEntry&&)>& each) const {
   sqlite3_stmt* s = nullptr;
   if (sqlite3_prepare_v2(impl_->db,
-                         "SELECT robot, epoch, sequence, payload, arrival_ns FROM updates "
+                         "SELECT robot, epoch, sequence, payload, arrival_ns, snapshot FROM updates "
                          "ORDER BY id",
                          -1, &s, nullptr) != SQLITE_OK)
     return Error{impl_->error("cannot read the journal")};
@@ -116,6 +118,7 @@ Status Journal::replay(const std::function<void(JournalEntry&&)>& each) const {
     e.payload.assign(static_cast<const char*>(blob),
                      static_cast<size_t>(sqlite3_column_bytes(s, 3)));
     e.arrival_ns = sqlite3_column_int64(s, 4);
+    e.snapshot = sqlite3_column_int(s, 5) != 0;
     each(std::move(e));
   }
   sqlite3_finalize(s);

@@ -3,7 +3,8 @@
 // station as a service"): one row and one transaction per update (robot, epoch, sequence, the
 // update as its .dsgb record, arrival time), written before the update is acknowledged, so that
 // a station that restarts on the same folder replays it and loses nothing it acknowledged. A
-// robot's sequence is in the journal at most once. SQLite stays inside this unit.
+// robot's sequence is in the journal at most once as a delta and once as a snapshot (a snapshot
+// the station asked for may carry the sequence of a delta it holds beyond a gap). SQLite stays inside this unit.
 
 #include <cstdint>
 #include <functional>
@@ -25,6 +26,7 @@ struct JournalEntry {
   uint64_t sequence = 0;
   std::string payload;  ///< the update, one .dsgb robot-update record
   int64_t arrival_ns = 0;
+  bool snapshot = false;  ///< the update is a snapshot
 };
 
 class Journal {
@@ -37,8 +39,9 @@ class Journal {
   Journal(const Journal&) = delete;
   Journal& operator=(const Journal&) = delete;
 
-  /// Appends an update in its own transaction; OK means it is committed. An entry of a robot
-  /// and sequence that is there already is refused (an error), and nothing changes.
+  /// Appends an update in its own transaction; OK means it is committed. An entry of a robot,
+  /// sequence and kind (snapshot or not) that is there already is refused (an error), and
+  /// nothing changes.
   Status append(const JournalEntry& entry);
   /// Every entry, in the order it was appended; stops at the first error (a damaged file).
   Status replay(const std::function<void(JournalEntry&&)>& each) const;
