@@ -9,7 +9,7 @@ DATA ?= ../shared/data
 
 CMAKE_FLAGS = -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DHYDRA_MULTI_WERROR=$(WERROR)
 
-.PHONY: all deps build test test-sanitize demo bench bench-robust bench-sim bench-frontend bench-backend bench-journal format clean
+.PHONY: all deps build test test-sanitize demo bench bench-robust bench-sim bench-frontend bench-backend bench-journal bench-bandwidth format clean
 
 all: build
 
@@ -62,6 +62,11 @@ bench-backend: build
 # (DATASET=DIR).
 bench-journal: build
 	@$(BUILD_DIR)/bench/bench_journal $(DATASET)
+
+# Bytes of a dataset's updates per robot and category against full resends, and zstd on them
+# (DATASET=DIR).
+bench-bandwidth: build
+	@$(BUILD_DIR)/bench/bench_bandwidth $(DATASET)
 
 demo: build
 	@./scripts/demo.sh $(BUILD_DIR)/hydra-multi $(DATA) $(DEMO_OUT)

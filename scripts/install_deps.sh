@@ -13,6 +13,7 @@ packages=(
   libgtest-dev libgmock-dev  # tests
   libzmq3-dev cppzmq-dev     # net: robots and station over ZeroMQ
   libsqlite3-dev             # store: the station's journal
+  libzstd-dev                # net: update payloads compressed on the wire
 )
 
 missing=()

@@ -3,12 +3,15 @@
 # every robot's updates arrive once and are applied, every robot is aligned, and the station's
 # graph scores as `run`'s on the same dataset. Bounded: 60 s for the whole; every process this
 # script starts is killed when it ends, also on failure.
-#   usage: networked_run.sh HYDRA_MULTI DATASET OUT_DIR SPEED
+# Prints the bandwidth the station counted: rows of bandwidth.csv, full resends against the
+# updates. ROBOT_FLAGS go to every robot (--full-resend: the whole map every update).
+#   usage: networked_run.sh HYDRA_MULTI DATASET OUT_DIR SPEED [ROBOT_FLAGS...]
 set -u
 HM=$1
 DATASET=$2
 OUT=$3
 SPEED=$4
+shift 4
 rm -rf "$OUT"
 mkdir -p "$OUT"
 . "$(dirname "$0")/processes.sh"
@@ -20,7 +23,7 @@ await_endpoint "$OUT/station"
 robots=()
 for robot in a b; do
   spawn "$OUT/robot_$robot.txt" timeout 50 "$HM" robot --dataset "$DATASET" --robot "$robot" \
-    --connect "$endpoint" --speed "$SPEED" --quiet
+    --connect "$endpoint" --speed "$SPEED" --quiet "$@"
   robots+=("$spawned")
 done
 status=0
@@ -47,3 +50,7 @@ awk -v a="$ate_net" -v b="$ate_run" -v f="$found_net" -v g="$found_run" -v c="$c
   'BEGIN { d1 = a - b; d2 = f - g; d3 = c - d;
            if (d1 < 0) d1 = -d1; if (d2 < 0) d2 = -d2; if (d3 < 0) d3 = -d3;
            if (d1 <= 0.001 && d2 <= 0.1 && d3 <= 0.1) print "same map"; else { print "FAIL: the maps differ"; exit 1 } }'
+rows=$(($(wc -l < "$OUT/station/bandwidth.csv") - 1))
+ratio=$(tr -d ' \n' < "$OUT/station/station.json" | sed -E 's/.*"full_resend_ratio":([0-9.]+).*/\1/')
+printf 'bandwidth: %d updates in bandwidth.csv, full resends %.1f times the updates\n' "$rows" "$ratio"
+grep -q '<polyline class="full"' "$OUT/station/bandwidth.svg" && echo "bandwidth.svg drawn"

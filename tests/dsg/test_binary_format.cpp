@@ -37,6 +37,30 @@ TEST(BinaryFormat, RobotUpdateRoundTripIsExact) {
   }
 }
 
+// An update's bytes split by what it carries add up to its record, and each part grows with its
+// own content only: more mesh vertices add to the mesh part, the others stay.
+TEST(BinaryFormat, UpdateBytesSplitByCategory) {
+  std::mt19937 rng(23);
+  for (int trial = 0; trial < 10; ++trial) {
+    const RobotUpdate update = testing::makeRandomUpdate(rng, static_cast<uint64_t>(trial));
+    const RobotUpdateBytes bytes = robotUpdateBytes(update);
+    EXPECT_EQ(bytes.total(), encodeRobotUpdateBinary(update).size());
+    RobotUpdate more_mesh = update;
+    more_mesh.graph.mesh.vertices.push_back(MeshVertex{});
+    const RobotUpdateBytes grown = robotUpdateBytes(more_mesh);
+    EXPECT_GT(grown.mesh, bytes.mesh);
+    EXPECT_EQ(grown.nodes_edges, bytes.nodes_edges);
+    EXPECT_EQ(grown.pose_graph, bytes.pose_graph);
+    EXPECT_EQ(grown.deformation, bytes.deformation);
+    EXPECT_EQ(grown.descriptors, bytes.descriptors);
+    RobotUpdate more_poses = update;
+    more_poses.pose_graph.push_back(PoseGraphEdge{});
+    const RobotUpdateBytes posed = robotUpdateBytes(more_poses);
+    EXPECT_EQ(posed.pose_graph, bytes.pose_graph + 8 + 8 + 1 + 12 * 8 + 36 * 8);
+    EXPECT_EQ(posed.mesh, bytes.mesh);
+  }
+}
+
 // A stream is records back to back; the reader hands them out one at a time.
 TEST(BinaryFormat, StreamOfRecords) {
   std::mt19937 rng(23);

@@ -14,6 +14,7 @@
 
 #include "hydra_multi/dsg/io/binary_format.h"
 #include "hydra_multi/net/keys.h"
+#include "hydra_multi/net/payload.h"
 #include "hydra_multi/net/protocol.h"
 #include "hydra_multi/net/robot_client.h"
 #include "hydra_multi/net/station_server.h"
@@ -126,6 +127,12 @@ TEST(StationServer, TwoRobotsStreamTheirMaps) {
   EXPECT_EQ(served.counts().robots.at(kA).updates, tiny().streams[0].size());
   EXPECT_TRUE(served.counts().robots.at(kB).said_bye);
   EXPECT_TRUE(served.counts().refused.empty());
+  // The station offers zstd and the robots take it: fewer bytes arrive than the records hold.
+  size_t records = 0;
+  for (size_t r = 0; r < 2; ++r) {
+    for (const RobotUpdate& u : tiny().streams[r]) records += io::encodeRobotUpdateBinary(u).size();
+  }
+  EXPECT_LT(served.counts().bytes, records * 3 / 4);
 }
 
 // A raw connection's messages, and the station's answers.
@@ -168,7 +175,8 @@ std::string payloadOf(size_t robot, size_t index) {
 }
 
 // Garbage, another version, an update before HELLO, a robot speaking for another, an update whose
-// payload does not decode and an oversized message: each refused with its reason and counted,
+// payload does not decode, an oversized message and a compressed payload that would expand past
+// the limit: each refused with its reason and counted,
 // while robot b streams its whole map beside them.
 TEST(StationServer, RefusesHostileMessagesWhileOthersGoOn) {
   StationServerOptions options;
@@ -203,6 +211,11 @@ TEST(StationServer, RefusesHostileMessagesWhileOthersGoOn) {
   EXPECT_EQ(m.text.rfind("UPDATE 0: payload: ", 0), 0u) << m.text;
   peer.send(encodeMessage(update(1, 5, std::string(1 << 21, 'x'))));
   EXPECT_EQ(peer.next().text, "a message of 2097172 bytes, more than the limit of 1048576");
+  // A small compressed payload that would expand past the limit: refused before it is expanded.
+  peer.send(encodeMessage(update(1, 0, compressPayload(std::string(1 << 21, 'x')))));
+  EXPECT_EQ(peer.next().text,
+            "UPDATE 0: payload: zstd frame expands to 2097152 bytes, more than the limit of "
+            "1048576");
   // The same connection, well-behaved now: its update is taken and acknowledged.
   peer.send(encodeMessage(update(1, 0, payloadOf(0, 0))));
   m = peer.next();
@@ -210,7 +223,7 @@ TEST(StationServer, RefusesHostileMessagesWhileOthersGoOn) {
   EXPECT_EQ(m.next_sequence, 1u);
   robot_b.join();
   const StationResult result = served.finish();
-  const std::map<std::string, size_t> refused = {{"bad_payload", 1}, {"malformed", 1},
+  const std::map<std::string, size_t> refused = {{"bad_payload", 2}, {"malformed", 1},
                                                  {"no_hello", 1},    {"too_large", 1},
                                                  {"version", 1},     {"wrong_robot", 1}};
   EXPECT_EQ(served.counts().refused, refused);
@@ -218,7 +231,7 @@ TEST(StationServer, RefusesHostileMessagesWhileOthersGoOn) {
   size_t logged = 0;
   for (const std::string& line : served.log())
     logged += line.find("refused a message") != std::string::npos;
-  EXPECT_EQ(logged, 6u);
+  EXPECT_EQ(logged, 7u);
 }
 
 // A robot that starts before its station keeps its updates, tries again with its backoff, and

@@ -157,7 +157,8 @@ struct RobotCommandOptions {
   /// Unix time the first update is due (with speed > 0); updates due before the process started
   /// are folded into the robot's map, not sent. Absent: the process's start.
   std::optional<double> mission_start_s;
-  bool full_resend = false;  ///< the whole map every update
+  bool full_resend = false;     ///< the whole map every update
+  std::string compress = "zstd";  ///< zstd or none
   bool quiet = false;
 };
 int runRobotCommand(const RobotCommandOptions& options);

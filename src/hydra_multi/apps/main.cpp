@@ -278,6 +278,11 @@ int main(int argc, char** argv) {
            {0.0, 1e11});
   robot_cmd->add_flag("--full-resend", robot.full_resend,
                       "send the robot's whole map every update, as the paper's robots do");
+  robot_cmd
+      ->add_option("--compress", robot.compress,
+                   "zstd: compress payloads when the station takes it; none: never")
+      ->check(CLI::IsMember({"zstd", "none"}))
+      ->capture_default_str();
   robot_cmd->add_flag("--quiet", robot.quiet, "no progress lines on stderr");
 
   TrialsOptions trials;

@@ -40,6 +40,7 @@ int runRobotCommand(const RobotCommandOptions& o) {
   net::RobotClientOptions options;
   options.connect = o.connect;
   options.full_resend = o.full_resend;
+  options.compress = o.compress == "zstd";
   if (!o.key.empty()) {
     auto secret = net::readKey(o.key);
     if (!secret) return fail(secret.error());

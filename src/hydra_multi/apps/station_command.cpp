@@ -16,13 +16,16 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "hydra_multi/apps/commands.h"
 #include "hydra_multi/apps/station_outputs.h"
 #include "hydra_multi/dsg/io/binary_format.h"
 #include "hydra_multi/net/keys.h"
+#include "hydra_multi/net/protocol.h"
 #include "hydra_multi/net/station_server.h"
+#include "hydra_multi/station/bandwidth.h"
 #include "hydra_multi/station/station_config.h"
 #include "hydra_multi/store/journal.h"
 
@@ -71,11 +74,12 @@ int runStationCommand(const StationCommandOptions& o) {
                                                                   : store::Durability::kFull);
   if (!journal) return fail(journal.error());
   server_options.persist = [&journal](const RobotUpdate& u, uint64_t epoch,
-                                      const std::string& payload) {
+                                      const std::string& payload, size_t wire_bytes) {
     const int64_t now = std::chrono::duration_cast<std::chrono::nanoseconds>(
                             std::chrono::system_clock::now().time_since_epoch())
                             .count();
-    return journal.value()->append({u.robot, epoch, u.sequence, payload, now, u.is_snapshot});
+    return journal.value()->append(
+        {u.robot, epoch, u.sequence, payload, now, u.is_snapshot, wire_bytes});
   };
   auto server = net::StationServer::create(station, server_options);
   if (!server) return fail(server.error());
@@ -123,6 +127,36 @@ int runStationCommand(const StationCommandOptions& o) {
   if (Status s = writeStationOutputs(o.out, result); !s) return fail(s.message());
   std::ofstream(fs::path(o.out) / "config.json") << config.value() << "\n";
 
+  // Bandwidth of every update the station holds (those of earlier runs on this folder too), from
+  // the journal: its message's bytes against a full resend of the robot's map at that moment.
+  const auto ledger_start = std::chrono::steady_clock::now();
+  BandwidthLedger ledger(net::encodeMessage(net::update(0, 0, {})).front().size());
+  const Status reread = journal.value()->replay([&](store::JournalEntry&& e) {
+    if (auto u = io::decodeRobotUpdateBinary(e.payload)) ledger.add(u.value(), e.wire_bytes);
+  });
+  if (!reread) return fail(reread.message());
+  const std::vector<UpdateBandwidth> bandwidth = ledger.rows();
+  std::ofstream(fs::path(o.out) / "bandwidth.csv") << bandwidthCsv(bandwidth);
+  std::ofstream(fs::path(o.out) / "bandwidth.svg") << bandwidthSvg(bandwidth);
+  const std::map<RobotId, RobotBandwidth> sent = bandwidthTotals(bandwidth);
+  std::ostringstream ledger_s;
+  ledger_s << std::fixed << std::setprecision(1)
+           << std::chrono::duration<double>(std::chrono::steady_clock::now() - ledger_start).count();
+  log("station: bandwidth of " + std::to_string(bandwidth.size()) + " updates against full " +
+      "resends in " + ledger_s.str() + " s");
+  RobotBandwidth team;
+  for (const auto& [robot, t] : sent) {
+    team.updates += t.updates;
+    team.wire_bytes += t.wire_bytes;
+    team.record_bytes += t.record_bytes;
+    team.full_resend_bytes += t.full_resend_bytes;
+    team.without_full_resend += t.without_full_resend;
+  }
+  // Like for like: full resends against the same updates uncompressed.
+  const auto ratio = [](const RobotBandwidth& t) {
+    return t.record_bytes > 0 ? double(t.full_resend_bytes) / double(t.record_bytes) : 0.0;
+  };
+
   const net::StationServerCounts& counts = server.value()->counts();
   const StationTimes times = stationTimes(result);
   nlohmann::ordered_json robots = nlohmann::ordered_json::object();
@@ -136,6 +170,11 @@ int runStationCommand(const StationCommandOptions& o) {
                            {"bytes", c.bytes},
                            {"said_bye", c.said_bye},
                            {"next_sequence", c.next_sequence}};
+    if (const auto t = sent.find(robot); t != sent.end()) {
+      robots[robot.str()]["update_bytes"] = t->second.wire_bytes;
+      robots[robot.str()]["update_record_bytes"] = t->second.record_bytes;
+      robots[robot.str()]["full_resend_bytes"] = t->second.full_resend_bytes;
+    }
     duplicates += c.duplicates;
   }
   const nlohmann::ordered_json summary = {{"endpoint", endpoint},
@@ -149,6 +188,11 @@ int runStationCommand(const StationCommandOptions& o) {
                                           {"updates_behind_gap", result.counts.behindGap()},
                                           {"snapshots_requested", counts.snapshots_requested},
                                           {"bytes_received", counts.bytes},
+                                          {"update_bytes", team.wire_bytes},
+                                          {"update_record_bytes", team.record_bytes},
+                                          {"full_resend_bytes", team.full_resend_bytes},
+                                          {"full_resend_ratio", ratio(team)},
+                                          {"updates_without_full_resend", team.without_full_resend},
                                           {"journal", journal_path},
                                           {"journal_entries", journal.value()->size()},
                                           {"journal_integrity", journal.value()->integrityCheck()},
@@ -167,11 +211,16 @@ int runStationCommand(const StationCommandOptions& o) {
             << "  updates               " << describeUpdates(result.counts, 0) << "\n"
             << "  messages              " << counts.bytes << " bytes, " << duplicates
             << " updates resent and held already, " << refused << " refused\n"
-            << "  robots aligned        " << result.aligned.size() << " of " << result.robots
+            << "  bandwidth             " << team.wire_bytes << " bytes of updates on the wire, "
+            << team.record_bytes << " uncompressed; as full resends " << team.full_resend_bytes
+            << " bytes uncompressed, " << std::setprecision(1) << ratio(team)
+            << " times more (bandwidth.csv, bandwidth.svg)\n"
+            << std::setprecision(2) << "  robots aligned        " << result.aligned.size() << " of "
+            << result.robots
             << "; global frame: robot " << result.global_robot.str() << "'s\n"
             << "outputs in " << o.out
             << ": graph.json, graph.spark.json, mesh.ply, timing.csv, config.json, station.json, "
-               "journal.sqlite\n";
+               "bandwidth.csv, bandwidth.svg, journal.sqlite\n";
   return 0;
 }
 

@@ -1,5 +1,7 @@
 #include "hydra_multi/eval/trials_report.h"
 
+#include "hydra_multi/core/svg_chart.h"
+
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -8,50 +10,9 @@
 namespace hydra_multi {
 namespace {
 
-const char* const kColours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728",
-                                "#9467bd", "#8c564b", "#e377c2", "#7f7f7f"};
-
-std::string fixed(double v, int decimals) {
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(decimals) << v;
-  return s.str();
-}
-
-std::string escape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    if (c == '<')
-      out += "&lt;";
-    else if (c == '>')
-      out += "&gt;";
-    else if (c == '&')
-      out += "&amp;";
-    else
-      out += c;
-  }
-  return out;
-}
-
-// The opening of a chart: the svg element, a white background and the title.
-std::string svgHeader(double width, double height, const std::string& title) {
-  std::ostringstream svg;
-  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height
-      << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
-      << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
-      << "<text x=\"" << width / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">"
-      << escape(title) << "</text>\n";
-  return svg.str();
-}
-
-// A "nice" upper bound for an axis: 1, 2 or 5 times a power of ten at or above v.
-double niceCeiling(double v) {
-  if (v <= 0.0) return 1.0;
-  const double base = std::pow(10.0, std::floor(std::log10(v)));
-  for (const double m : {1.0, 2.0, 5.0, 10.0}) {
-    if (m * base >= v) return m * base;
-  }
-  return 10.0 * base;
-}
+using svg::escape;
+using svg::fixed;
+using svg::niceCeiling;
 
 }  // namespace
 
@@ -116,7 +77,7 @@ std::string barChartSvg(const std::string& title, const std::vector<TrialRun>& r
   const double y_max = niceCeiling(top_value);
   const auto y = [&](double v) { return top + plot_h * (1.0 - std::clamp(v / y_max, 0.0, 1.0)); };
   std::ostringstream svg;
-  svg << svgHeader(width, height, title);
+  svg << svg::header(width, height, title);
   for (int t = 0; t <= 5; ++t) {
     const double v = y_max * t / 5.0;
     svg << "<line x1=\"" << left << "\" x2=\"" << left + plot_w << "\" y1=\"" << y(v) << "\" y2=\""
@@ -136,7 +97,7 @@ std::string barChartSvg(const std::string& title, const std::vector<TrialRun>& r
       const double x = x0 + m * bar_w;
       svg << "<rect class=\"bar\" x=\"" << x << "\" y=\"" << y(s->mean) << "\" width=\""
           << bar_w * 0.9 << "\" height=\"" << top + plot_h - y(s->mean) << "\" fill=\""
-          << kColours[m % 8] << "\"><title>" << escape(methods[m]) << " "
+          << svg::colour(m) << "\"><title>" << escape(methods[m]) << " "
           << escape(metrics[g].heading) << ": " << fixed(s->mean, metrics[g].decimals) << " ± "
           << fixed(s->std, metrics[g].decimals) << "</title></rect>\n";
       const double cx = x + bar_w * 0.45;
@@ -151,7 +112,7 @@ std::string barChartSvg(const std::string& title, const std::vector<TrialRun>& r
   for (size_t m = 0; m < methods.size(); ++m) {
     const double ly = top + 10 + 20 * m;
     svg << "<rect x=\"" << left + plot_w + 15 << "\" y=\"" << ly - 10 << "\" width=\"12\" "
-        << "height=\"12\" fill=\"" << kColours[m % 8] << "\"/><text x=\"" << left + plot_w + 32
+        << "height=\"12\" fill=\"" << svg::colour(m) << "\"/><text x=\"" << left + plot_w + 32
         << "\" y=\"" << ly << "\">" << escape(methods[m]) << "</text>\n";
   }
   svg << "</svg>\n";
@@ -173,7 +134,7 @@ std::string backendTimeSvg(const std::vector<TrialRun>& runs,
   const auto X = [&](double v) { return left + plot_w * std::clamp(v / x_max, 0.0, 1.0); };
   const auto Y = [&](double v) { return top + plot_h * (1.0 - std::clamp(v / y_max, 0.0, 1.0)); };
   std::ostringstream svg;
-  svg << svgHeader(width, height, "Backend time per round against deformation-graph size");
+  svg << svg::header(width, height, "Backend time per round against deformation-graph size");
   for (int t = 0; t <= 5; ++t) {
     const double xv = x_max * t / 5.0, yv = y_max * t / 5.0;
     svg << "<line x1=\"" << left << "\" x2=\"" << left + plot_w << "\" y1=\"" << Y(yv) << "\" y2=\""
@@ -194,14 +155,14 @@ std::string backendTimeSvg(const std::vector<TrialRun>& runs,
       if (run.method != methods[m]) continue;
       for (const TrialRun::Round& r : run.rounds) {
         svg << "<circle class=\"point\" cx=\"" << X(r.poses) << "\" cy=\"" << Y(r.seconds)
-            << "\" r=\"3\" fill=\"" << kColours[m % 8] << "\" fill-opacity=\"0.7\"><title>"
+            << "\" r=\"3\" fill=\"" << svg::colour(m) << "\" fill-opacity=\"0.7\"><title>"
             << escape(methods[m]) << " seed " << run.seed << ": " << fixed(r.poses, 0) << " poses, "
             << fixed(r.seconds, 3) << " s</title></circle>\n";
       }
     }
     const double ly = top + 10 + 20 * m;
     svg << "<circle cx=\"" << left + plot_w + 21 << "\" cy=\"" << ly - 4 << "\" r=\"5\" fill=\""
-        << kColours[m % 8] << "\"/><text x=\"" << left + plot_w + 32 << "\" y=\"" << ly << "\">"
+        << svg::colour(m) << "\"/><text x=\"" << left + plot_w + 32 << "\" y=\"" << ly << "\">"
         << escape(methods[m]) << "</text>\n";
   }
   svg << "</svg>\n";

@@ -141,11 +141,12 @@ Message hello(RobotId robot, uint64_t epoch, uint32_t provided_layers) {
   return m;
 }
 
-Message welcome(uint64_t next_sequence) {
+Message welcome(uint64_t next_sequence, bool zstd) {
   Message m;
   m.type = MessageType::kWelcome;
   m.next_sequence = next_sequence;
   m.text = "hydra-multi";
+  m.zstd = zstd;
   return m;
 }
 
@@ -202,7 +203,10 @@ std::vector<std::string> encodeMessage(const Message& m) {
                            .dump());
       break;
     case MessageType::kWelcome:
-      frames.push_back(Json{{"station", m.text}, {"next_sequence", m.next_sequence}}.dump());
+      frames.push_back(Json{{"station", m.text},
+                            {"next_sequence", m.next_sequence},
+                            {"compression", m.zstd ? Json::array({"zstd"}) : Json::array()}}
+                           .dump());
       break;
     case MessageType::kRefuse:
       frames.push_back(m.text);
@@ -279,6 +283,10 @@ Result<Message> decodeMessage(const std::vector<std::string>& frames) {
           throw io::DecodeError("no next_sequence");
         m.next_sequence = j["next_sequence"].get<uint64_t>();
         m.text = j.value("station", "");
+        if (j.contains("compression")) {  // what UPDATE payloads may be compressed with
+          if (!j["compression"].is_array()) throw io::DecodeError("\"compression\" is not a list");
+          for (const Json& name : j["compression"]) m.zstd |= name == "zstd";
+        }
         break;
       }
       case MessageType::kRefuse:

@@ -5,10 +5,12 @@
 // trusts a length it has not checked.
 //
 //   HELLO      robot -> station   header                 | JSON {robot, epoch, layers}
-//   WELCOME    station -> robot   header                 | JSON {station, next_sequence}
+//   WELCOME    station -> robot   header                 | JSON {station, next_sequence,
+//                                                           compression}
 //   REFUSE     station -> robot   header, epoch, seq, code | reason (text); seq: the update
 //                                                      refused, kNoSequence for another message
-//   UPDATE     robot -> station   header, epoch, seq     | payload (a .dsgb robot-update record)
+//   UPDATE     robot -> station   header, epoch, seq     | payload (a .dsgb robot-update record,
+//                                                           or a zstd frame of one: payload.h)
 //   ACK        station -> robot   header, epoch, seq, next  (update seq is held, and every one
 //                                                           before next)
 //   HEARTBEAT  both ways          header
@@ -69,11 +71,12 @@ struct Message {
   uint64_t next_sequence = 0;
   std::string text;                          ///< REFUSE: the reason; WELCOME: the station's name
   RefuseCode code = RefuseCode::kMalformed;  ///< REFUSE
-  std::string payload;                       ///< UPDATE: the robot update, as one .dsgb record
+  std::string payload;  ///< UPDATE: the robot update, as one .dsgb record (or a zstd frame of one)
+  bool zstd = false;    ///< WELCOME: the station takes zstd-compressed payloads
 };
 
 Message hello(RobotId robot, uint64_t epoch, uint32_t provided_layers);
-Message welcome(uint64_t next_sequence);
+Message welcome(uint64_t next_sequence, bool zstd = true);
 Message refuse(RefuseCode code, std::string reason, uint64_t epoch = 0,
                uint64_t sequence = kNoSequence);
 Message update(uint64_t epoch, uint64_t sequence, std::string payload);

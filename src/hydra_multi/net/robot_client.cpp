@@ -11,6 +11,7 @@
 #include "hydra_multi/dsg/robot_stream.h"
 #include "hydra_multi/net/interruptible_poll.h"
 #include "hydra_multi/net/keys.h"
+#include "hydra_multi/net/payload.h"
 #include "hydra_multi/net/protocol.h"
 
 namespace hydra_multi::net {
@@ -28,10 +29,17 @@ Clock::duration seconds(double s) {
 
 struct Entry {
   std::string payload;  // the update as one .dsgb record
+  std::string packed;   // the same, zstd-compressed (made when first sent to a station taking it)
   bool in_flight = false;
   bool ever_sent = false;
   Clock::time_point sent_at;
 };
+
+Entry entryOf(std::string payload) {
+  Entry entry;
+  entry.payload = std::move(payload);
+  return entry;
+}
 
 }  // namespace
 
@@ -72,6 +80,7 @@ struct RobotClient::Impl {
   size_t in_flight = 0;
   std::string fatal;
   bool bye_answered = false;
+  bool zstd = false;  // the station's WELCOME offers it
   RobotStreamState map;  // every update enqueued or folded, as one snapshot
   std::string map_broken;  // why `map` is not the robot's map (an update did not add); empty: it is
   RobotClientCounts counts;
@@ -104,7 +113,7 @@ void RobotClient::Impl::answerSnapshotRequest(const Message& m) {
     if (it->second.in_flight) --in_flight;
     it = outbox.erase(it);
   }
-  outbox[snapshot.sequence].payload = io::encodeRobotUpdateBinary(snapshot);
+  outbox[snapshot.sequence] = entryOf(io::encodeRobotUpdateBinary(snapshot));
   ++counts.snapshots;
   log("the station asked for a snapshot: sending one of every update up to " +
       std::to_string(snapshot.sequence) + " (" +
@@ -168,6 +177,7 @@ void RobotClient::Impl::handle(const Message& m) {
       // The station holds everything before next_sequence: drop it, send the rest again.
       ++counts.connections;
       state = State::kWelcomed;
+      zstd = m.zstd && options.compress;
       backoff_s = options.backoff_min_s;
       outbox.erase(outbox.begin(), outbox.lower_bound(m.next_sequence));
       for (auto& [sequence, entry] : outbox) entry.in_flight = false;
@@ -250,7 +260,11 @@ void RobotClient::Impl::sendUpdates() {
     const bool due = !entry.in_flight || secondsSince(entry.sent_at) > options.resend_s;
     if (!due) continue;
     if (!entry.in_flight && in_flight >= options.window) break;
-    if (!send(update(options.epoch, sequence, entry.payload))) break;  // queue full: later
+    if (zstd && entry.packed.empty()) entry.packed = compressPayload(entry.payload);
+    // Compressed only when it is smaller.
+    const bool packed = zstd && entry.packed.size() < entry.payload.size();
+    if (!send(update(options.epoch, sequence, packed ? entry.packed : entry.payload)))
+      break;  // queue full: later
     (entry.ever_sent ? counts.resent : counts.sent) += 1;
     if (!entry.in_flight) ++in_flight;
     entry.in_flight = entry.ever_sent = true;
@@ -268,7 +282,7 @@ bool RobotClient::enqueue(const RobotUpdate& update) {
   c.addToMap(update);
   // --full-resend: the whole map every time, as the paper's robots send it.
   const bool whole = c.options.full_resend && c.map_broken.empty();
-  c.outbox[update.sequence].payload = io::encodeRobotUpdateBinary(whole ? c.map.snapshot() : update);
+  c.outbox[update.sequence] = entryOf(io::encodeRobotUpdateBinary(whole ? c.map.snapshot() : update));
   return true;
 }
 

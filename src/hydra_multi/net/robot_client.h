@@ -34,6 +34,8 @@ struct RobotClientOptions {
   std::string secret_key, station_key;
   /// Send the robot's whole map (a snapshot) in place of each update, as the paper's robots do.
   bool full_resend = false;
+  /// Compress payloads with zstd when the station takes it (its WELCOME says so).
+  bool compress = true;
 };
 
 struct RobotClientCounts {

@@ -9,6 +9,7 @@
 
 #include "hydra_multi/dsg/io/binary_format.h"
 #include "hydra_multi/net/interruptible_poll.h"
+#include "hydra_multi/net/payload.h"
 #include "hydra_multi/net/protocol.h"
 
 namespace hydra_multi::net {
@@ -178,7 +179,7 @@ void StationServer::Impl::onHello(const std::string& id, Session& session, const
   log("station: robot " + m.robot.str() + " connected (" + who(session) + ", epoch " +
       std::to_string(m.epoch) + "), next update " + std::to_string(h.next));
   session.updated = false;
-  send(id, session, welcome(h.next));
+  send(id, session, welcome(h.next, options.accept_zstd));
   // A new run of a robot process the station holds updates of: what it lost with its outbox
   // only a snapshot of its map can bring back.
   const bool restarted = h.epoch != 0 && h.epoch != m.epoch && !h.empty();
@@ -204,7 +205,12 @@ void StationServer::Impl::onUpdate(const std::string& id, Session& session, cons
   if (!session.welcomed)
     return refuse(id, session, RefuseCode::kNoHello,
                   "UPDATE " + std::to_string(m.sequence) + " before HELLO on this connection");
-  auto decoded = io::decodeRobotUpdateBinary(m.payload);
+  auto record = expandPayload(m.payload, options.max_message_bytes);
+  if (!record)
+    return refuse(id, session, RefuseCode::kBadPayload,
+                  "UPDATE " + std::to_string(m.sequence) + ": payload: " + record.error(),
+                  m.sequence);
+  auto decoded = io::decodeRobotUpdateBinary(record.value());
   if (!decoded)
     return refuse(id, session, RefuseCode::kBadPayload,
                   "UPDATE " + std::to_string(m.sequence) + ": payload: " + decoded.error(),
@@ -228,7 +234,8 @@ void StationServer::Impl::onUpdate(const std::string& id, Session& session, cons
     ++robot.duplicates;
   } else {
     if (options.persist) {
-      if (Status stored = options.persist(u, session.epoch, m.payload); !stored)
+      const size_t wire = encodeMessage(update(0, 0, {})).front().size() + m.payload.size();
+      if (Status stored = options.persist(u, session.epoch, record.value(), wire); !stored)
         return refuse(id, session, RefuseCode::kNotStored,
                       "UPDATE " + std::to_string(m.sequence) +
                           ": the station cannot store it: " + stored.message(),

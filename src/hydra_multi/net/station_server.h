@@ -35,10 +35,14 @@ struct StationServerOptions {
   /// snapshot (twice the robot's resend time: resends had their chance).
   double gap_s = 10.0;
   std::function<void(const std::string&)> log;
-  /// Stores an accepted update (its robot, epoch, sequence and payload record) before it is
-  /// handed on and acknowledged; an error refuses it (`not_stored`) and it is not acknowledged.
-  std::function<Status(const RobotUpdate& update, uint64_t epoch, const std::string& payload)>
+  /// Stores an accepted update (its robot, epoch, sequence, its record, expanded if it came
+  /// compressed, and the bytes of its message) before it is handed on and acknowledged; an error
+  /// refuses it (`not_stored`) and it is not acknowledged.
+  std::function<Status(const RobotUpdate& update, uint64_t epoch, const std::string& record,
+                       size_t wire_bytes)>
       persist;
+  /// WELCOME offers zstd: robots may send payloads compressed (payload.h).
+  bool accept_zstd = true;
   /// CURVE (keys.h): the station's secret key and the robots' public keys it admits, each one
   /// robot's; a connection speaks only for the robot of its key. Empty: no authentication.
   std::string secret_key;

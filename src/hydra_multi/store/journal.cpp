@@ -14,6 +14,7 @@ constexpr const char* kSchema =
     " payload BLOB NOT NULL,"
     " arrival_ns INTEGER NOT NULL,"
     " snapshot INTEGER NOT NULL,"
+    " wire_bytes INTEGER NOT NULL,"
     " UNIQUE (robot, sequence, snapshot))";
 
 // SQLite integers are signed 64-bit; sequences and epochs are stored bit for bit.
@@ -60,8 +61,8 @@ Result<std::unique_ptr<Journal>> Journal::open(const std::string& path, Durabili
   if (Status s = impl->exec(kSchema, "not a journal of robot updates"); !s)
     return Error{s.message()};
   if (sqlite3_prepare_v2(impl->db,
-                         "INSERT INTO updates (robot, epoch, sequence, payload, arrival_ns, snapshot) "
-                         "VALUES (?, ?, ?, ?, ?, ?)",
+                         "INSERT INTO updates (robot, epoch, sequence, payload, arrival_ns, snapshot, "
+                         "wire_bytes) VALUES (?, ?, ?, ?, ?, ?, ?)",
                          -1, &impl->insert, nullptr) != SQLITE_OK)
     return Error{impl->error("not a journal of robot updates (its table has other columns)")};
   return std::unique_ptr<Journal>(new Journal(std::move(impl)));
@@ -81,6 +82,7 @@ Status Journal::append(const JournalEntry& e) {
   sqlite3_bind_blob64(s, 4, e.payload.data(), e.payload.size(), SQLITE_STATIC);
   sqlite3_bind_int64(s, 5, e.arrival_ns);
   sqlite3_bind_int(s, 6, e.snapshot ? 1 : 0);
+  sqlite3_bind_int64(s, 7, static_cast<int64_t>(e.wire_bytes));
   const int rc = sqlite3_step(s);  // autocommit: one transaction
   sqlite3_reset(s);
   sqlite3_clear_bindings(s);
@@ -95,7 +97,7 @@ Status Journal::append(const JournalEntry& e) {
 Status Journal::replay(const std::function<void(JournalEntry&&)>& each) const {
   sqlite3_stmt* s = nullptr;
   if (sqlite3_prepare_v2(impl_->db,
-                         "SELECT robot, epoch, sequence, payload, arrival_ns, snapshot FROM updates "
+                         "SELECT robot, epoch, sequence, payload, arrival_ns, snapshot, wire_bytes FROM updates "
                          "ORDER BY id",
                          -1, &s, nullptr) != SQLITE_OK)
     return Error{impl_->error("cannot read the journal")};
@@ -119,6 +121,7 @@ Status Journal::replay(const std::function<void(JournalEntry&&)>& each) const {
                      static_cast<size_t>(sqlite3_column_bytes(s, 3)));
     e.arrival_ns = sqlite3_column_int64(s, 4);
     e.snapshot = sqlite3_column_int(s, 5) != 0;
+    e.wire_bytes = static_cast<size_t>(sqlite3_column_int64(s, 6));
     each(std::move(e));
   }
   sqlite3_finalize(s);

@@ -1,7 +1,7 @@
 #pragma once
 // The durable journal of the updates the station accepted (SQLite, WAL mode; DESIGN.md "The
 // station as a service"): one row and one transaction per update (robot, epoch, sequence, the
-// update as its .dsgb record, arrival time), written before the update is acknowledged, so that
+// update as its .dsgb record, arrival time, whether it is a snapshot, the bytes of its message), written before the update is acknowledged, so that
 // a station that restarts on the same folder replays it and loses nothing it acknowledged. A
 // robot's sequence is in the journal at most once as a delta and once as a snapshot (a snapshot
 // the station asked for may carry the sequence of a delta it holds beyond a gap). SQLite stays inside this unit.
@@ -27,6 +27,7 @@ struct JournalEntry {
   std::string payload;  ///< the update, one .dsgb robot-update record
   int64_t arrival_ns = 0;
   bool snapshot = false;  ///< the update is a snapshot
+  size_t wire_bytes = 0;  ///< of the message it came in (compressed, with the protocol's framing)
 };
 
 class Journal {

@@ -82,7 +82,12 @@ void writeMeshDelta(ByteWriter& w, const MeshDelta& mesh) {
   }
 }
 
-void writeGraphDelta(ByteWriter& w, const GraphDelta& delta) {
+// Where writeRobotUpdate's sections end in the payload, for robotUpdateBytes.
+struct SectionEnds {
+  size_t header = 0, nodes_edges = 0, mesh = 0, pose_graph = 0, deformation = 0;
+};
+
+void writeGraphDelta(ByteWriter& w, const GraphDelta& delta, SectionEnds* ends = nullptr) {
   w.varint(delta.nodes.size());
   for (const Node& node : delta.nodes) writeNode(w, node);
   w.varint(delta.removed_nodes.size());
@@ -99,16 +104,19 @@ void writeGraphDelta(ByteWriter& w, const GraphDelta& delta) {
     w.u64(key.first().value());
     w.u64(key.second().value());
   }
+  if (ends) ends->nodes_edges = w.bytes().size();
   writeMeshDelta(w, delta.mesh);
+  if (ends) ends->mesh = w.bytes().size();
 }
 
-void writeRobotUpdate(ByteWriter& w, const RobotUpdate& u) {
+void writeRobotUpdate(ByteWriter& w, const RobotUpdate& u, SectionEnds* ends = nullptr) {
   w.u8(u.robot.index());
   w.varint(u.sequence);
   w.svarint(u.time_ns);
   w.u8(u.is_snapshot ? 1 : 0);
   w.varint(u.provided_layers);
-  writeGraphDelta(w, u.graph);
+  if (ends) ends->header = w.bytes().size();
+  writeGraphDelta(w, u.graph, ends);
   w.varint(u.pose_graph.size());
   for (const PoseGraphEdge& e : u.pose_graph) {
     w.u64(e.from.value());
@@ -121,6 +129,7 @@ void writeRobotUpdate(ByteWriter& w, const RobotUpdate& u) {
       for (int c = 0; c < 6; ++c) w.f64(e.information(r, c));
     }
   }
+  if (ends) ends->pose_graph = w.bytes().size();
   w.varint(u.deformation.points.size());
   for (const ControlPoint& p : u.deformation.points) {
     w.varint(p.id);
@@ -133,6 +142,7 @@ void writeRobotUpdate(ByteWriter& w, const RobotUpdate& u) {
     w.varint(e.from);
     w.varint(e.to);
   }
+  if (ends) ends->deformation = w.bytes().size();
   w.varint(u.descriptors.size());
   for (const KeyframeDescriptor& d : u.descriptors) {
     w.u64(d.keyframe.value());
@@ -161,6 +171,21 @@ std::string encodeRobotUpdateBinary(const RobotUpdate& update) {
   ByteWriter payload;
   writeRobotUpdate(payload, update);
   return encodeRecord(RecordKind::kRobotUpdate, payload.bytes());
+}
+
+RobotUpdateBytes robotUpdateBytes(const RobotUpdate& update) {
+  ByteWriter payload;
+  SectionEnds ends;
+  writeRobotUpdate(payload, update, &ends);
+  const size_t size = payload.bytes().size();
+  RobotUpdateBytes bytes;
+  bytes.header = encodeRecord(RecordKind::kRobotUpdate, payload.bytes()).size() - size + ends.header;
+  bytes.nodes_edges = ends.nodes_edges - ends.header;
+  bytes.mesh = ends.mesh - ends.nodes_edges;
+  bytes.pose_graph = ends.pose_graph - ends.mesh;
+  bytes.deformation = ends.deformation - ends.pose_graph;
+  bytes.descriptors = size - ends.deformation;
+  return bytes;
 }
 
 size_t robotUpdateDigest(const RobotUpdate& update) {

@@ -25,6 +25,20 @@ std::string encodeSceneGraphBinary(const SceneGraph& graph);
 Result<SceneGraph> decodeSceneGraphBinary(std::string_view bytes);
 
 std::string encodeRobotUpdateBinary(const RobotUpdate& update);
+/// An update's encoded record split by what it carries (the paper's Fig. 9b categories); the
+/// parts add up to encodeRobotUpdateBinary(update).size().
+struct RobotUpdateBytes {
+  size_t header = 0;       ///< record framing and checksum; robot, sequence, time, layers
+  size_t nodes_edges = 0;  ///< scene-graph nodes and edges: added, changed and removed
+  size_t mesh = 0;
+  size_t pose_graph = 0;
+  size_t deformation = 0;  ///< control points and their edges
+  size_t descriptors = 0;  ///< loop-closure descriptors (bag of words, keypoints)
+  size_t total() const {
+    return header + nodes_edges + mesh + pose_graph + deformation + descriptors;
+  }
+};
+RobotUpdateBytes robotUpdateBytes(const RobotUpdate& update);
 /// A digest of an update's whole content (its encoding), to tell a duplicate from a conflict.
 size_t robotUpdateDigest(const RobotUpdate& update);
 /// Decodes a buffer that holds exactly one robot-update record.
