@@ -14,6 +14,7 @@ packages=(
   libzmq3-dev cppzmq-dev     # net: robots and station over ZeroMQ
   libsqlite3-dev             # store: the station's journal
   libzstd-dev                # net: update payloads compressed on the wire
+  iproute2 iptables          # tests: robots' links with faults, in network namespaces
 )
 
 missing=()

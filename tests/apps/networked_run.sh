@@ -4,7 +4,8 @@
 # graph scores as `run`'s on the same dataset. Bounded: 60 s for the whole; every process this
 # script starts is killed when it ends, also on failure.
 # Prints the bandwidth the station counted: rows of bandwidth.csv, full resends against the
-# updates. ROBOT_FLAGS go to every robot (--full-resend: the whole map every update).
+# updates. ROBOT_FLAGS go to every robot (--full-resend: the whole map every update); ORDER in the
+# environment is the station's --order (arrival unless given).
 #   usage: networked_run.sh HYDRA_MULTI DATASET OUT_DIR SPEED [ROBOT_FLAGS...]
 set -u
 HM=$1
@@ -17,7 +18,7 @@ mkdir -p "$OUT"
 . "$(dirname "$0")/processes.sh"
 
 spawn "$OUT/station.txt" timeout 60 "$HM" station --listen 'tcp://127.0.0.1:*' \
-  --out "$OUT/station" --expect-robots 2 --quiet
+  --out "$OUT/station" --expect-robots 2 --order "${ORDER:-arrival}" --quiet
 station=$spawned
 await_endpoint "$OUT/station"
 robots=()
@@ -38,18 +39,7 @@ cat "$OUT"/robot_*.txt "$OUT/station.txt"
 "$HM" run --dataset "$DATASET" --out "$OUT/run" --quiet > /dev/null || exit 1
 tr -d ' \n' < "$OUT/station/station.json"
 echo
-# The two maps' objects and ATE, side by side: the same within 1 mm and 0.1 points.
-figures() {
-  tr -d ' \n' < "$1" | sed -E 's/.*"ate_rmse_m":([0-9.e-]+),"objects_found_pct":([0-9.]+),"objects_correct_pct":([0-9.]+).*/\1 \2 \3/'
-}
-read -r ate_net found_net correct_net < <(figures "$OUT/networked.json")
-read -r ate_run found_run correct_run < <(figures "$OUT/run/metrics.json")
-echo "networked: ATE $ate_net m, objects found $found_net %, correct $correct_net %"
-echo "run:       ATE $ate_run m, objects found $found_run %, correct $correct_run %"
-awk -v a="$ate_net" -v b="$ate_run" -v f="$found_net" -v g="$found_run" -v c="$correct_net" -v d="$correct_run" \
-  'BEGIN { d1 = a - b; d2 = f - g; d3 = c - d;
-           if (d1 < 0) d1 = -d1; if (d2 < 0) d2 = -d2; if (d3 < 0) d3 = -d3;
-           if (d1 <= 0.001 && d2 <= 0.1 && d3 <= 0.1) print "same map"; else { print "FAIL: the maps differ"; exit 1 } }'
+compare_with_run "$HM" "$DATASET" "$OUT/networked.json" "$OUT/run/metrics.json" networked || exit 1
 rows=$(($(wc -l < "$OUT/station/bandwidth.csv") - 1))
 ratio=$(tr -d ' \n' < "$OUT/station/station.json" | sed -E 's/.*"full_resend_ratio":([0-9.]+).*/\1/')
 printf 'bandwidth: %d updates in bandwidth.csv, full resends %.1f times the updates\n' "$rows" "$ratio"

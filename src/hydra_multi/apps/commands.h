@@ -136,6 +136,8 @@ struct StationCommandOptions {
   std::string durability = "full";  ///< full | normal: the journal's SQLite synchronous setting
   std::string keys;  ///< folder of the robots' public keys (a.pub, ...); empty: no authentication
   std::string key;   ///< the station's secret key (with `keys`)
+  std::string order = "arrival";  ///< arrival | time: the order the frontend takes updates in
+  double order_hold_s = 5.0;      ///< with order time: the longest an update is held
   bool quiet = false;
 };
 int runStationCommand(const StationCommandOptions& options);

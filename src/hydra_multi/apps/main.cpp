@@ -234,6 +234,18 @@ int main(int argc, char** argv) {
                    "(synced at checkpoints: survives a crash of the station, not of the machine)")
       ->check(CLI::IsMember({"full", "normal"}))
       ->capture_default_str();
+  station_cmd
+      ->add_option("--order", station.order,
+                   "arrival: the frontend takes updates as they arrive; time: in robot time, as "
+                   "run replays a dataset (the map does not depend on the network's timing; each "
+                   "update held at most --order-hold s, the team being --expect-robots robots)")
+      ->check(CLI::IsMember({"arrival", "time"}))
+      ->capture_default_str();
+  CLI::Option* order_hold = cli.real(station_cmd, "--order-hold", station.order_hold_s,
+                                     "with --order time: the longest an update waits for the "
+                                     "other robots (s)",
+                                     {0.0, 3600.0, true});
+  order_hold->capture_default_str();
   CLI::Option* station_keys = cli.inputDirectory(
       station_cmd, "--keys", station.keys,
       "admit only the robots whose public keys lie here (a.pub, b.pub, ...; CURVE)");
@@ -328,6 +340,8 @@ int main(int argc, char** argv) {
   }
   if (*pgo_cmd && pgo_seed->count() > 0 && outliers->count() == 0)
     return cli.refuse("pgo", "--seed applies to --outliers only (the seed of the injection)");
+  if (*station_cmd && order_hold->count() > 0 && station.order != "time")
+    return cli.refuse("station", "--order-hold applies to --order time only");
   if (*robot_cmd && robot.mission_start_s && robot.speed <= 0.0)
     return cli.refuse("robot", "--mission-start needs --speed above 0 (robot time on the clock)");
   if (*trials_cmd) {

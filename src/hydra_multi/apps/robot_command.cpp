@@ -94,7 +94,8 @@ int runRobotCommand(const RobotCommandOptions& o) {
             << c.sent << " sent, " << c.resent << " sent again, " << c.snapshots
             << " snapshots asked for, " << c.acknowledged << " acknowledged, " << c.refused
             << " refused, " << c.connections
-            << (c.connections == 1 ? " connection, " : " connections, ") << c.bytes << " bytes\n";
+            << (c.connections == 1 ? " connection, " : " connections, ") << c.bytes << " bytes"
+            << (c.bye_unanswered ? ", BYE not answered" : "") << "\n";
   if (!client.fatal().empty()) return fail(o.connect + ": " + client.fatal());
   if (!finished) {
     std::ostringstream seconds;

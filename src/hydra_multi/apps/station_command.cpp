@@ -53,6 +53,10 @@ int runStationCommand(const StationCommandOptions& o) {
     if (!o.quiet) std::cerr << line << std::endl;
   };
   options.log = log;
+  if (o.order == "time") {
+    options.time_order_hold_s = o.order_hold_s;
+    options.expected_robots = o.expect_robots;
+  }
   Station station(options);
   net::StationServerOptions server_options;
   server_options.listen = o.listen;

@@ -179,7 +179,10 @@ void RobotClient::Impl::handle(const Message& m) {
       state = State::kWelcomed;
       zstd = m.zstd && options.compress;
       backoff_s = options.backoff_min_s;
-      outbox.erase(outbox.begin(), outbox.lower_bound(m.next_sequence));
+      // Those the station holds count as acknowledged (their ACK was lost with a connection).
+      const auto held = outbox.lower_bound(m.next_sequence);
+      counts.acknowledged += static_cast<size_t>(std::distance(outbox.begin(), held));
+      outbox.erase(outbox.begin(), held);
       for (auto& [sequence, entry] : outbox) entry.in_flight = false;
       in_flight = 0;
       log("welcomed, the station holds every update before " + std::to_string(m.next_sequence) +
@@ -326,17 +329,29 @@ bool RobotClient::finish(std::chrono::milliseconds timeout) {
   const Clock::time_point end = Clock::now() + timeout;
   // Every update acknowledged, then BYE until the station answers it (a BYE sent to a station
   // that restarted is refused, and the robot says HELLO again first).
+  // A station that took every update may end before its answer to BYE arrives (a connection cut
+  // at that moment): once every update is acknowledged, BYE is awaited for a while only.
   Clock::time_point bye_sent = Clock::now() - std::chrono::hours(1);
+  std::optional<Clock::time_point> first_bye;
+  const double bye_wait_s = 2.0 * c.options.heartbeat_s * c.options.missed_heartbeats;
   c.bye_answered = false;
+  c.counts.bye_unanswered = false;
   while (c.fatal.empty() && Clock::now() < end && !c.bye_answered) {
+    if (c.outbox.empty() && first_bye && secondsSince(*first_bye) > bye_wait_s) {
+      c.counts.bye_unanswered = true;
+      c.log("every update is acknowledged; the station did not answer BYE within " +
+            std::to_string(static_cast<int>(bye_wait_s)) + " s");
+      break;
+    }
     if (c.outbox.empty() && c.state == Impl::State::kWelcomed &&
         secondsSince(bye_sent) >= c.options.heartbeat_s) {
       c.send(bye());
       bye_sent = Clock::now();
+      if (!first_bye) first_bye = bye_sent;
     }
     pump(std::chrono::milliseconds(50));
   }
-  return c.bye_answered && c.outbox.empty() && c.fatal.empty();
+  return (c.bye_answered || c.counts.bye_unanswered) && c.outbox.empty() && c.fatal.empty();
 }
 
 size_t RobotClient::unacknowledged() const { return impl_->outbox.size(); }

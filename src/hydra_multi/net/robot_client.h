@@ -46,6 +46,9 @@ struct RobotClientCounts {
   size_t snapshots = 0;    ///< sent because the station asked for one
   size_t connections = 0;  ///< WELCOMEs
   size_t bytes = 0;        ///< of every message sent
+  /// finish(): every update acknowledged, but the station's answer to BYE never came (it ended
+  /// first, or the connection was cut as it answered).
+  bool bye_unanswered = false;
 };
 
 class RobotClient {
@@ -64,8 +67,9 @@ class RobotClient {
   /// Works the connection for about `budget`: connects, sends, handles the station's messages,
   /// heartbeats, reconnects.
   void pump(std::chrono::milliseconds budget);
-  /// Waits (pumping) until every update is acknowledged, then says BYE; false on timeout or a
-  /// fatal refusal.
+  /// Waits (pumping) until every update is acknowledged, then says BYE until it is answered, or
+  /// for twice the heartbeat timeout after the first BYE (counts().bye_unanswered); false on
+  /// timeout with updates unacknowledged, or a fatal refusal.
   bool finish(std::chrono::milliseconds timeout);
 
   size_t unacknowledged() const;

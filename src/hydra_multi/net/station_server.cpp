@@ -174,7 +174,9 @@ void StationServer::Impl::onHello(const std::string& id, Session& session, const
   session.epoch = m.epoch;
   RobotLinkCounts& robot = counts.robots[m.robot];
   ++robot.connections;
-  robot.said_bye = false;
+  // A robot that said BYE and comes back with the same epoch is the same mission saying HELLO
+  // again (its answer to BYE was lost); a new epoch is a new run of the robot's process.
+  if (m.epoch != held[m.robot].epoch) robot.said_bye = false;
   Held& h = held[m.robot];
   log("station: robot " + m.robot.str() + " connected (" + who(session) + ", epoch " +
       std::to_string(m.epoch) + "), next update " + std::to_string(h.next));
@@ -296,6 +298,7 @@ void StationServer::Impl::handle(const std::string& id, const std::vector<std::s
         return;
       }
       counts.robots[session.robot].said_bye = true;
+      station.endOfStream(session.robot);
       log("station: robot " + session.robot.str() + " said BYE (" +
           std::to_string(counts.robots[session.robot].updates) + " updates)");
       send(id, session, bye());  // the answer the robot waits for
@@ -379,6 +382,7 @@ void StationServer::serve(const std::function<bool()>& stop, size_t expect_robot
     for (const auto& [robot, c] : s.counts.robots) n += c.said_bye ? 1 : 0;
     return n;
   };
+  std::optional<Clock::time_point> all_byes;
   while (!(stop && stop())) {
     zmq::pollitem_t items[] = {{s.socket.handle(), 0, ZMQ_POLLIN, 0},
                                {s.zap.handle(), 0, ZMQ_POLLIN, 0}};
@@ -407,7 +411,14 @@ void StationServer::serve(const std::function<bool()>& stop, size_t expect_robot
       s.handle(id, frames);
     }
     s.housekeeping();
-    if (expect_robots > 0 && byes() >= expect_robots) break;
+    // Every expected robot said BYE: one heartbeat more, to answer a BYE sent again by a robot
+    // whose answer was lost with a connection.
+    if (expect_robots > 0 && byes() >= expect_robots) {
+      if (!all_byes) all_byes = Clock::now();
+      if (secondsSince(*all_byes) >= s.options.heartbeat_s) break;
+    } else {
+      all_byes.reset();
+    }
   }
 }
 

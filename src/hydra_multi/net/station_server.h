@@ -78,7 +78,7 @@ class StationServer {
   /// The endpoint bound, with the port a '*' picked ("tcp://127.0.0.1:40123").
   const std::string& endpoint() const;
   /// Serves until `stop()` is true (asked every 100 ms) or `expect_robots` robots (0: no limit)
-  /// have said BYE.
+  /// have said BYE (and one heartbeat more, to answer a BYE sent again).
   void serve(const std::function<bool()>& stop, size_t expect_robots = 0);
   const StationServerCounts& counts() const;
   /// Marks an update as held already (replayed from the journal before serving), so that its

@@ -9,6 +9,8 @@
 #include <set>
 #include <thread>
 
+#include "hydra_multi/station/time_order.h"
+
 namespace hydra_multi {
 namespace {
 
@@ -80,7 +82,18 @@ struct Station::Impl {
         team_first(team.empty() ? RobotId(0) : *std::min_element(team.begin(), team.end())),
         processor(options.processor, [this](const std::string& line) { log(line); }),
         detector(options.detector),
-        backend(options.backend) {}
+        backend(options.backend) {
+    if (options.time_order_hold_s > 0.0)
+      time_order.emplace(std::chrono::duration_cast<Clock::duration>(
+                             std::chrono::duration<double>(options.time_order_hold_s)),
+                         options.expected_robots);
+  }
+  // Moves what the time order releases onto the queue (under queue_mutex).
+  void releaseOrdered(bool everything = false) {
+    if (!time_order) return;
+    const Clock::time_point now = Clock::now();
+    for (RobotUpdate& u : time_order->release(now, everything)) queue.emplace_back(std::move(u), now);
+  }
 
   void log(const std::string& line) {
     if (!options.log) return;
@@ -106,6 +119,7 @@ struct Station::Impl {
   mutable std::mutex queue_mutex;
   std::condition_variable queue_wake;
   std::deque<std::pair<RobotUpdate, Clock::time_point>> queue;
+  std::optional<TimeOrder> time_order;  // with options.time_order_hold_s: before the queue
   bool input_closed = false;
   std::map<RobotId, size_t> skipped;  // damaged records per robot, as inputs report them
 
@@ -220,7 +234,7 @@ void Station::Impl::process(const RobotUpdate& update, Clock::time_point submitt
 
 size_t Station::Impl::queued() const {
   std::lock_guard<std::mutex> lock(queue_mutex);
-  return queue.size();
+  return queue.size() + (time_order ? time_order->held() : 0);
 }
 
 void Station::Impl::frontendLoop() {
@@ -228,7 +242,15 @@ void Station::Impl::frontendLoop() {
     std::pair<RobotUpdate, Clock::time_point> next;
     {
       std::unique_lock<std::mutex> lock(queue_mutex);
-      queue_wake.wait(lock, [&] { return !queue.empty() || input_closed; });
+      for (;;) {
+        releaseOrdered(input_closed);
+        if (!queue.empty() || input_closed) break;
+        const auto deadline = time_order ? time_order->deadline() : std::nullopt;
+        if (deadline)
+          queue_wake.wait_until(lock, *deadline);
+        else
+          queue_wake.wait(lock);
+      }
       if (queue.empty()) break;  // closed and worked off
       next = std::move(queue.front());
       queue.pop_front();
@@ -279,10 +301,25 @@ bool Station::submit(RobotUpdate update) {
   {
     std::lock_guard<std::mutex> lock(impl_->queue_mutex);
     if (impl_->input_closed) return false;
-    impl_->queue.emplace_back(std::move(update), Clock::now());
+    if (impl_->time_order) {
+      impl_->time_order->add(std::move(update));
+      impl_->releaseOrdered();
+    } else {
+      impl_->queue.emplace_back(std::move(update), Clock::now());
+    }
   }
   impl_->queue_wake.notify_one();
   return true;
+}
+
+void Station::endOfStream(RobotId robot) {
+  {
+    std::lock_guard<std::mutex> lock(impl_->queue_mutex);
+    if (!impl_->time_order) return;
+    impl_->time_order->finish(robot);
+    impl_->releaseOrdered();
+  }
+  impl_->queue_wake.notify_one();
 }
 
 void Station::noteSkipped(RobotId robot, size_t records) {

@@ -1,7 +1,8 @@
 #pragma once
 // The station (DESIGN.md "Data flow"): one pipeline that any input feeds. `Station::submit` puts a
 // robot update on the ingest queue from any thread (the file replay below, later the network);
-// the frontend thread takes them in arrival order through the scene-graph processor and the
+// the frontend thread takes them in arrival order (or, with `time_order_hold_s`, in robot-time
+// order: time_order.h) through the scene-graph processor and the
 // loop-closure detector, timed; whenever the backend thread is idle and the frontend has news,
 // the frontend hands it a snapshot of its state (graph, per-robot pose graphs, control points,
 // meshes, inter-robot loop closures) and goes on; the backend runs a round on it (backend.h). The
@@ -26,6 +27,12 @@ namespace hydra_multi {
 
 struct StationOptions {
   double speed = 0.0;  ///< file replay: 1 real time, 10 ten times faster, 0 as fast as possible
+  /// Above 0: updates put in robot-time order before the frontend, each held at most this long
+  /// (time_order.h), so that a network's delivery order does not change the map; 0: arrival order.
+  double time_order_hold_s = 0.0;
+  /// With the time order: the team's size; until that many robots have sent something, only the
+  /// hold releases (0: the robots heard of so far are the team).
+  size_t expected_robots = 0;
   ProcessorOptions processor;
   LoopClosureOptions detector;
   BackendOptions backend;
@@ -82,6 +89,9 @@ class Station {
   /// Puts an update on the ingest queue (any thread, any input); updates are processed in the
   /// order they are submitted. False, and nothing queued, once finish() has begun.
   bool submit(RobotUpdate update);
+  /// Robot `robot` sends nothing more (it said BYE): with the time order, the others no longer
+  /// wait for it.
+  void endOfStream(RobotId robot);
   /// Records that an input left out `records` damaged records of a robot's stream (the end of
   /// the run says so with that robot's updates).
   void noteSkipped(RobotId robot, size_t records);

@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# The station and the robots in network namespaces of their own, made and removed here, joined by
+# a veth pair, with faults on the robots' link: 5 % of the packets crossing it dropped both ways
+# (iptables' statistic match in the robots' namespace), and every robot connection going through
+# a proxy of the test's own (tests/support/fault_proxy.cpp) that delays all traffic by 50 ms and
+# cuts each connection at a random moment (mean 1.5 s). Nothing is lost: every update applied
+# once, none behind a gap or rejected, and the map is run's on the same dataset. Needs root (for
+# the namespaces) and iptables: without them it says so and is skipped (exit 77). Bounded: 80 s;
+# every process started here is stopped and both namespaces deleted when it ends, also on failure.
+#   usage: faulty_links.sh HYDRA_MULTI FAULT_PROXY DATASET OUT_DIR SPEED
+set -u
+HM=$1
+PROXY=$2
+DATASET=$3
+OUT=$4
+SPEED=$5
+rm -rf "$OUT"
+mkdir -p "$OUT"
+[ "$(id -u)" -eq 0 ] || { echo "SKIP: network namespaces need root"; exit 77; }
+for tool in ip iptables; do
+  command -v "$tool" > /dev/null || { echo "SKIP: no $tool (scripts/install_deps.sh installs it)"; exit 77; }
+done
+. "$(dirname "$0")/processes.sh"
+
+ns_station=hm$$s
+ns_robots=hm$$r
+subnet=10.231.$(($$ % 250))
+namespaces_cleanup() {
+  spawn_cleanup
+  ip netns del "$ns_station" 2> /dev/null
+  ip netns del "$ns_robots" 2> /dev/null
+  return 0
+}
+trap namespaces_cleanup EXIT
+ip netns add "$ns_station" || { echo "SKIP: cannot make a network namespace"; exit 77; }
+ip netns add "$ns_robots" || exit 1
+ip link add hm$$a netns "$ns_station" type veth peer name hm$$b netns "$ns_robots" || exit 1
+ip -n "$ns_station" addr add "$subnet.1/30" dev hm$$a
+ip -n "$ns_robots" addr add "$subnet.2/30" dev hm$$b
+for ns in "$ns_station" "$ns_robots"; do ip -n "$ns" link set lo up; done
+ip -n "$ns_station" link set hm$$a up
+ip -n "$ns_robots" link set hm$$b up
+in_robots() { ip netns exec "$ns_robots" "$@"; }
+in_robots iptables -A INPUT -i hm$$b -m statistic --mode random --probability 0.05 -j DROP || exit 1
+in_robots iptables -A OUTPUT -o hm$$b -m statistic --mode random --probability 0.05 -j DROP || exit 1
+
+spawn "$OUT/station.txt" timeout 80 ip netns exec "$ns_station" "$HM" station \
+  --listen "tcp://$subnet.1:7800" --out "$OUT/station" --expect-robots 2 --order time --quiet
+station=$spawned
+spawn "$OUT/proxy.txt" timeout 80 ip netns exec "$ns_robots" "$PROXY" --listen 127.0.0.1:0 \
+  --upstream "$subnet.1:7800" --port-file "$OUT/proxy.port" --delay-ms 50 --cut-mean-s 1.5 \
+  --seed 7
+proxy=$spawned
+for _ in $(seq 100); do [ -s "$OUT/station/endpoint" ] && [ -s "$OUT/proxy.port" ] && break; sleep 0.1; done
+[ -s "$OUT/proxy.port" ] || { echo "FAIL: the proxy did not start"; cat "$OUT"/*.txt; exit 1; }
+robots=()
+for robot in a b; do
+  spawn "$OUT/robot_$robot.txt" timeout 70 ip netns exec "$ns_robots" "$HM" robot \
+    --dataset "$DATASET" --robot "$robot" --connect "tcp://127.0.0.1:$(cat "$OUT/proxy.port")" \
+    --speed "$SPEED" --quiet
+  robots+=("$spawned")
+done
+status=0
+for p in "${robots[@]}"; do wait "$p" || status=1; done
+[ "$status" -eq 0 ] || { echo "FAIL: a robot failed"; cat "$OUT"/*.txt; exit 1; }
+wait "$station" || { echo "FAIL: the station failed"; cat "$OUT"/*.txt; exit 1; }
+kill -TERM "$proxy"
+wait "$proxy"
+dropped=$(in_robots iptables -L -v -n -x | awk '$3 == "DROP" { n += $1 } END { print n + 0 }')
+echo "dropped $dropped packets on the robots' link"
+cat "$OUT/proxy.txt" "$OUT"/robot_*.txt
+tr -d ' \n' < "$OUT/station/station.json" |
+  grep -o '"updates_applied":[0-9]*,"updates_duplicate":[0-9]*,"updates_refused":{[^}]*},"updates_rejected":[0-9]*,"updates_behind_gap":[0-9]*'
+"$HM" evaluate --dataset "$DATASET" --result "$OUT/station/graph.json" --json \
+  > "$OUT/evaluated.json" || exit 1
+"$HM" run --dataset "$DATASET" --out "$OUT/run" --quiet > /dev/null || exit 1
+compare_with_run "$HM" "$DATASET" "$OUT/evaluated.json" "$OUT/run/metrics.json" station || exit 1
