@@ -50,6 +50,7 @@ base_args() {
     station) echo "--out $TMP/x" ;;
     robot) echo "--dataset $DIR --robot a --connect tcp://127.0.0.1:1" ;;
     keygen) echo "--out $TMP/key" ;;
+    watch) echo "--connect tcp://127.0.0.1:1" ;;
     *) echo "" ;;
   esac
 }

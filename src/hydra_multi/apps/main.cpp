@@ -254,6 +254,26 @@ int main(int argc, char** argv) {
   station_keys->needs(station_cmd->get_option("--key"));
   station_cmd->add_flag("--quiet", station.quiet, "no progress lines on stderr");
 
+  station_cmd
+      ->add_option("--publish", station.publish,
+                   "publish the fused graph after every backend round (ZeroMQ clone pattern: "
+                   "snapshots on this endpoint, deltas on its port + 1; `watch` subscribes)");
+  WatchOptions watch;
+  CLI::App* watch_cmd = app.add_subcommand(
+      "watch", "Subscribe to a station's fused graph (station --publish): one line per update");
+  watch_cmd->add_option("--connect", watch.connect, "the station's --publish endpoint")
+      ->required();
+  cli.outputFile(watch_cmd, "--out", watch.out,
+                 "write the latest graph here after every update (.json, .dsgb, .spark.json)");
+  cli.integer(watch_cmd, "--count", watch.count,
+              "end after this many fused updates (0: at the station's final graph)", size_t{0},
+              size_t{1000000000})
+      ->capture_default_str();
+  cli.real(watch_cmd, "--timeout", watch.timeout_s, "end after this many seconds (0: no limit)",
+           {0.0, 31536000.0})
+      ->capture_default_str();
+  watch_cmd->add_flag("--quiet", watch.quiet, "no progress lines on stderr");
+
   KeygenOptions keygen;
   CLI::App* keygen_cmd = app.add_subcommand(
       "keygen", "Make a CURVE key pair for a robot or the station: PREFIX.key and PREFIX.pub");
@@ -362,5 +382,6 @@ int main(int argc, char** argv) {
   if (*station_cmd) return runStationCommand(station);
   if (*robot_cmd) return runRobotCommand(robot);
   if (*keygen_cmd) return runKeygen(keygen);
+  if (*watch_cmd) return runWatch(watch);
   return 0;
 }

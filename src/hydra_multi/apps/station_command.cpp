@@ -22,6 +22,7 @@
 #include "hydra_multi/apps/commands.h"
 #include "hydra_multi/apps/station_outputs.h"
 #include "hydra_multi/dsg/io/binary_format.h"
+#include "hydra_multi/net/fused_graph.h"
 #include "hydra_multi/net/keys.h"
 #include "hydra_multi/net/protocol.h"
 #include "hydra_multi/net/station_server.h"
@@ -56,6 +57,20 @@ int runStationCommand(const StationCommandOptions& o) {
   if (o.order == "time") {
     options.time_order_hold_s = o.order_hold_s;
     options.expected_robots = o.expect_robots;
+  }
+  std::unique_ptr<net::GraphPublisher> publisher;
+  if (!o.publish.empty()) {
+    auto created = net::GraphPublisher::create({o.publish, log});
+    if (!created) return fail("--publish " + created.error());
+    publisher = std::move(created).value();
+    net::GraphPublisher* p = publisher.get();
+    options.on_round = [p](const SceneGraph& graph, const BackendRoundReport& r, size_t round) {
+      p->publish(graph, round, r.robots, r.robots_aligned);
+    };
+    std::ofstream(fs::path(o.out) / "publish") << publisher->endpoint() << "\n";
+    std::cerr << "station: publishing the fused graph: snapshots on " << publisher->endpoint()
+              << ", deltas on " << publisher->publishEndpoint() << " (hydra-multi watch --connect "
+              << publisher->endpoint() << ")" << std::endl;
   }
   Station station(options);
   net::StationServerOptions server_options;
@@ -128,6 +143,7 @@ int runStationCommand(const StationCommandOptions& o) {
   std::signal(SIGTERM, SIG_DFL);
   log("station: input closed; last backend round");
   const StationResult result = station.finish();
+  if (publisher) publisher->close();  // the final graph is out; subscribers are told it is
   if (Status s = writeStationOutputs(o.out, result); !s) return fail(s.message());
   std::ofstream(fs::path(o.out) / "config.json") << config.value() << "\n";
 

@@ -153,6 +153,7 @@ void Station::Impl::runRound(const Snapshot& s) {
   timing.after_update = s.after_update;
   timing.report = backend.round(s.graph, robots, s.inter_robot, s.root, s.support);
   result.rounds.push_back(timing);
+  if (options.on_round) options.on_round(backend.graph(), timing.report, timing.round);
   // Say whose frame the map is in when it is not the team's first robot's, and when it moves.
   const RobotId now = backend.alignment().root().value_or(s.root);
   if (!global && now != team_first)

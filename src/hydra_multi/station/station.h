@@ -37,6 +37,10 @@ struct StationOptions {
   LoopClosureOptions detector;
   BackendOptions backend;
   std::function<void(const std::string&)> log;  ///< progress and warnings
+  /// Called in the backend thread after every round with its graph (the station's outputs for
+  /// others: net/fused_graph.h publishes it); must not block for long.
+  std::function<void(const SceneGraph& graph, const BackendRoundReport& round, size_t index)>
+      on_round;
   /// Evaluation only (the oracle-lc yardstick): the inter-robot loop closures the backend may
   /// see; the frontend's graph gives the keyframes' stamps. Empty: all of them.
   std::function<bool(const DetectedLoopClosure&, const SceneGraph&)> loop_closure_filter;

@@ -281,6 +281,13 @@ Result<SceneGraph> decodeSceneGraphBinary(std::string_view bytes) {
   return decodeSingle<SceneGraph>(bytes, decodeSceneGraphPayload);
 }
 
+Result<GraphDelta> decodeGraphDeltaBinary(std::string_view bytes) {
+  return decodeSingle<GraphDelta>(bytes, [](const RecordView& record) {
+    return decodePayload<GraphDelta>(record, RecordKind::kGraphDelta, "graph delta",
+                                     readGraphDelta);
+  });
+}
+
 Result<RobotUpdate> decodeRobotUpdateBinary(std::string_view bytes) {
   return decodeSingle<RobotUpdate>(bytes, decodeRobotUpdatePayload);
 }

@@ -167,6 +167,12 @@ std::string encodeSceneGraphBinary(const SceneGraph& graph) {
   return encodeRecord(RecordKind::kSceneGraph, payload.bytes());
 }
 
+std::string encodeGraphDeltaBinary(const GraphDelta& delta) {
+  ByteWriter payload;
+  writeGraphDelta(payload, delta);
+  return encodeRecord(RecordKind::kGraphDelta, payload.bytes());
+}
+
 std::string encodeRobotUpdateBinary(const RobotUpdate& update) {
   ByteWriter payload;
   writeRobotUpdate(payload, update);

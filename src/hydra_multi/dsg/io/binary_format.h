@@ -24,6 +24,11 @@ std::string encodeSceneGraphBinary(const SceneGraph& graph);
 /// Decodes a buffer that holds exactly one scene-graph record.
 Result<SceneGraph> decodeSceneGraphBinary(std::string_view bytes);
 
+/// A delta between two graphs (dsg/graph_delta.h) as one record; decoding checks its layout and
+/// numbers, applyDelta checks it against the graph it is applied to.
+std::string encodeGraphDeltaBinary(const GraphDelta& delta);
+Result<GraphDelta> decodeGraphDeltaBinary(std::string_view bytes);
+
 std::string encodeRobotUpdateBinary(const RobotUpdate& update);
 /// An update's encoded record split by what it carries (the paper's Fig. 9b categories); the
 /// parts add up to encodeRobotUpdateBinary(update).size().

@@ -34,7 +34,7 @@ Result<std::optional<RecordView>> RecordReader::next() {
     }
     const size_t body_start = reader.offset() - start;
     const uint8_t kind = reader.u8("record kind");
-    if (kind != 1 && kind != 2) reader.fail("unknown record kind " + std::to_string(kind));
+    if (kind < 1 || kind > 3) reader.fail("unknown record kind " + std::to_string(kind));
     const uint16_t version = reader.u16("format version");
     if (version != kBinaryVersion) {
       reader.fail("format version " + std::to_string(version) +

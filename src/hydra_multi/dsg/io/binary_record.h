@@ -1,7 +1,7 @@
 #pragma once
 // Records of the binary format (.dsgb): a file is a sequence of them.
 //
-//   "HMDG" | kind u8 (1 graph, 2 robot update) | version u16 | payload size varint | payload |
+//   "HMDG" | kind u8 (1 graph, 2 robot update, 3 graph delta) | version u16 | payload size varint | payload |
 //   CRC-32 u32 of everything from kind to the end of the payload
 //
 // The payloads' layout is binary_format.h's.
@@ -17,7 +17,7 @@ namespace hydra_multi::io {
 
 inline constexpr uint16_t kBinaryVersion = 1;
 
-enum class RecordKind : uint8_t { kSceneGraph = 1, kRobotUpdate = 2 };
+enum class RecordKind : uint8_t { kSceneGraph = 1, kRobotUpdate = 2, kGraphDelta = 3 };
 
 /// One record of a file: its kind, its place and its payload.
 struct RecordView {

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# The fused graph for others (loopback only): a station with --publish, one `watch` subscribed
+# before the robots start and one that joins 2 s later. Each prints a line per fused update, the
+# late one starting from a snapshot, and both end at the station's final graph with the graph the
+# station wrote (the same counts per layer, robot and mesh). Bounded: 60 s; every process started
+# here is stopped when it ends.
+#   usage: station_watch.sh HYDRA_MULTI DATASET OUT_DIR
+set -u
+HM=$1
+DATASET=$2
+OUT=$3
+rm -rf "$OUT"
+mkdir -p "$OUT"
+. "$(dirname "$0")/processes.sh"
+
+spawn "$OUT/station.txt" timeout 50 "$HM" station --listen 'tcp://127.0.0.1:*' \
+  --publish 'tcp://127.0.0.1:*' --out "$OUT/station" --expect-robots 2
+station=$spawned
+await_endpoint "$OUT/station"
+for _ in $(seq 50); do [ -s "$OUT/station/publish" ] && break; sleep 0.1; done
+publish=$(cat "$OUT/station/publish")
+spawn "$OUT/early.txt" timeout 50 "$HM" watch --connect "$publish" --out "$OUT/early.dsgb"
+early=$spawned
+for robot in a b; do
+  spawn "$OUT/robot_$robot.txt" timeout 50 "$HM" robot --dataset "$DATASET" --robot "$robot" \
+    --connect "$endpoint" --speed 10 --quiet
+done
+sleep 2
+spawn "$OUT/late.txt" timeout 50 "$HM" watch --connect "$publish" --out "$OUT/late.json"
+late=$spawned
+wait "$station" || { echo "FAIL: the station failed"; cat "$OUT"/*.txt; exit 1; }
+for w in "$early" "$late"; do wait "$w" || { echo "FAIL: a watcher failed"; cat "$OUT"/*.txt; exit 1; }; done
+grep -E "^station: publishing the fused graph" "$OUT/station.txt"
+for name in early late; do
+  echo "$name: $(grep -c '^sequence ' "$OUT/$name.txt") lines, first: $(grep -m1 '^sequence ' "$OUT/$name.txt" | cut -d' ' -f1-2)"
+  grep -E "^watch: " "$OUT/$name.txt"
+done
+for name in early.dsgb late.json; do
+  if diff <("$HM" info "$OUT/station/graph.json" | tail -n +2) <("$HM" info "$OUT/$name" | tail -n +2); then
+    echo "$name is the station's graph"
+  fi
+done
