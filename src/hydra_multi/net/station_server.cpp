@@ -45,6 +45,7 @@ struct Held {
   std::set<uint64_t> ahead;
   uint64_t epoch = 0;
   Clock::time_point progress = Clock::now(), requested = Clock::now() - std::chrono::hours(1);
+  Clock::time_point heard = Clock::now();  // the robot's last message, on any connection
   bool empty() const { return next == 0 && ahead.empty(); }
   bool has(uint64_t sequence) const { return sequence < next || ahead.count(sequence) > 0; }
   // Held already: a delta it holds, or a snapshot that covers nothing new.
@@ -87,6 +88,7 @@ struct StationServer::Impl {
   void onUpdate(const std::string& id, Session& session, const Message& m);
   void requestSnapshot(const std::string& id, Session& session, const std::string& why);
   void housekeeping();
+  void status();  // one progress line per robot
   void authenticate();  // answers one ZAP request
   std::string who(const Session& s) const {
     return "connection " + std::to_string(s.number) +
@@ -104,6 +106,7 @@ struct StationServer::Impl {
   size_t connections = 0;
   std::map<RobotId, Held> held;
   StationServerCounts counts;
+  Clock::time_point last_status = Clock::now();
 };
 
 void StationServer::Impl::send(const std::string& id, Session& session, const Message& message) {
@@ -266,7 +269,10 @@ void StationServer::Impl::handle(const std::string& id, const std::vector<std::s
   size_t bytes = 0;
   for (const std::string& f : frames) bytes += f.size();
   counts.bytes += bytes;
-  if (session.welcomed) counts.robots[session.robot].bytes += bytes;
+  if (session.welcomed) {
+    counts.robots[session.robot].bytes += bytes;
+    held[session.robot].heard = Clock::now();
+  }
   if (bytes > options.max_message_bytes)
     return refuse(id, session, RefuseCode::kTooLarge,
                   "a message of " + std::to_string(bytes) + " bytes, more than the limit of " +
@@ -311,7 +317,29 @@ void StationServer::Impl::handle(const std::string& id, const std::vector<std::s
   }
 }
 
+void StationServer::Impl::status() {
+  for (const auto& [robot, c] : counts.robots) {
+    bool connected = false;
+    for (const auto& [id, session] : sessions) connected |= session.welcomed && session.robot == robot;
+    const double silent = secondsSince(held[robot].heard);
+    std::ostringstream line;
+    line.setf(std::ios::fixed);
+    line.precision(2);
+    line << "station: robot " << robot.str() << ": "
+         << (c.said_bye       ? std::string("done (BYE)")
+             : connected && silent < options.heartbeat_s * options.missed_heartbeats
+                 ? std::string("connected")
+                 : "silent for " + std::to_string(static_cast<int>(silent)) + " s")
+         << ", " << c.updates << " updates, " << double(c.bytes) / 1e6 << " MB received";
+    log(line.str());
+  }
+}
+
 void StationServer::Impl::housekeeping() {
+  if (options.status_s > 0.0 && secondsSince(last_status) >= options.status_s) {
+    last_status = Clock::now();
+    status();
+  }
   const double gone_s = options.heartbeat_s * options.missed_heartbeats;
   for (auto it = sessions.begin(); it != sessions.end();) {
     Session& s = it->second;

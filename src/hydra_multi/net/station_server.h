@@ -34,6 +34,9 @@ struct StationServerOptions {
   /// A gap (an update missing, later ones held) this long without progress: ask the robot for a
   /// snapshot (twice the robot's resend time: resends had their chance).
   double gap_s = 10.0;
+  /// Every this many seconds, one progress line per robot: connected, silent for N s or done,
+  /// updates applied, bytes received (0: none).
+  double status_s = 10.0;
   std::function<void(const std::string&)> log;
   /// Stores an accepted update (its robot, epoch, sequence, its record, expanded if it came
   /// compressed, and the bytes of its message) before it is handed on and acknowledged; an error
