@@ -44,3 +44,6 @@ rows=$(($(wc -l < "$OUT/station/bandwidth.csv") - 1))
 ratio=$(tr -d ' \n' < "$OUT/station/station.json" | sed -E 's/.*"full_resend_ratio":([0-9.]+).*/\1/')
 printf 'bandwidth: %d updates in bandwidth.csv, full resends %.1f times the updates\n' "$rows" "$ratio"
 grep -q '<polyline class="full"' "$OUT/station/bandwidth.svg" && echo "bandwidth.svg drawn"
+# The station's loop closures, without the truth's columns: its measurements and verdicts only.
+head -n 1 "$OUT/station/loop_closures.csv"
+echo "loop_closures.csv: $(($(wc -l < "$OUT/station/loop_closures.csv") - 1)) inter-robot loop closures"

@@ -1,21 +1,24 @@
 #pragma once
 // Loop closures as CSV rows, each checked against the ground truth (evaluation only): `detect
 // --loop-closures FILE` writes every detected one, `run` the inter-robot ones with the station's
-// verdicts (OUT/loop_closures.csv).
+// verdicts (OUT/loop_closures.csv); `station` writes the measured columns and its verdicts only
+// (it never reads ground truth: station_outputs.h).
 
 #include <optional>
 #include <ostream>
 
+#include "hydra_multi/apps/station_outputs.h"
 #include "hydra_multi/eval/dataset_evaluation.h"
 #include "hydra_multi/frontend/loop_closure_detector.h"
 
 namespace hydra_multi::apps {
 
-/// What the station made of an inter-robot loop closure.
-struct LoopClosureVerdict {
-  bool alignment_inlier = false;  ///< in its robot pair's consensus (initial alignment)
-  bool kept = false;              ///< an inlier of GNC in the last backend round
-};
+
+/// The columns of what the station measured of a loop closure (no truth): ids, stamps, layer,
+/// inliers, score, distinctiveness, the relative pose; and one row of them (no newline).
+extern const char* const kLoopClosureMeasurementColumns;
+void writeLoopClosureMeasurement(std::ostream& csv, const DetectedLoopClosure& closure,
+                                 int64_t stamp_a_ns, int64_t stamp_b_ns);
 
 /// The header row; with_verdicts adds the columns alignment_inlier and kept.
 void writeLoopClosureCsvHeader(std::ostream& csv, bool with_verdicts);

@@ -116,17 +116,10 @@ int runRun(const RunOptions& o) {
     if (!c.interRobot()) continue;
     ++inter;
     // Stamps from the frontend: robots not aligned are not in the backend graph.
-    const auto stamp = [&](NodeId id) -> int64_t {
-      const auto it = result.keyframe_stamps.find(id);
-      return it == result.keyframe_stamps.end() ? -1 : it->second;
-    };
+    const auto stamp = [&](NodeId id) { return keyframeStamp(result, id); };
     const LoopClosureCheck check = checkLoopClosure(truth.value(), c.robot_a, stamp(c.keyframe_a),
                                                     c.robot_b, stamp(c.keyframe_b), c.T_a_b);
-    const auto averaged = result.alignment_inliers.find({c.keyframe_a, c.keyframe_b});
-    const auto kept = result.inter_robot_inliers.find({c.keyframe_a, c.keyframe_b});
-    LoopClosureVerdict verdict;
-    verdict.alignment_inlier = averaged != result.alignment_inliers.end() && averaged->second;
-    verdict.kept = kept != result.inter_robot_inliers.end() && kept->second;
+    const LoopClosureVerdict verdict = verdictOf(result, c);
     writeLoopClosureCsvRow(closures_csv, c, stamp(c.keyframe_a), stamp(c.keyframe_b), truth.value(),
                            check, verdict);
     inter_correct += check.correct;

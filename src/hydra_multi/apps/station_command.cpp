@@ -9,9 +9,7 @@
 // started on a DIR that holds a journal, the station first replays it, so that a station that was
 // killed loses nothing it acknowledged and its robots resend only the rest.
 
-#include <atomic>
 #include <chrono>
-#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -21,6 +19,7 @@
 
 #include "hydra_multi/apps/commands.h"
 #include "hydra_multi/apps/station_outputs.h"
+#include "hydra_multi/apps/stop_signals.h"
 #include "hydra_multi/dsg/io/binary_format.h"
 #include "hydra_multi/net/fused_graph.h"
 #include "hydra_multi/net/keys.h"
@@ -31,13 +30,6 @@
 #include "hydra_multi/store/journal.h"
 
 namespace hydra_multi::apps {
-namespace {
-
-std::atomic<bool> stop_requested{false};
-
-extern "C" void onStopSignal(int) { stop_requested = true; }
-
-}  // namespace
 
 int runStationCommand(const StationCommandOptions& o) {
   namespace fs = std::filesystem;
@@ -135,16 +127,15 @@ int runStationCommand(const StationCommandOptions& o) {
                     : std::string(", until SIGINT or SIGTERM"))
             << std::endl;
 
-  stop_requested = false;
-  std::signal(SIGINT, onStopSignal);
-  std::signal(SIGTERM, onStopSignal);
-  server.value()->serve([] { return stop_requested.load(); }, o.expect_robots);
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
+  {
+    const StopSignals signals;
+    server.value()->serve([] { return StopSignals::requested(); }, o.expect_robots);
+  }
   log("station: input closed; last backend round");
   const StationResult result = station.finish();
   if (publisher) publisher->close();  // the final graph is out; subscribers are told it is
   if (Status s = writeStationOutputs(o.out, result); !s) return fail(s.message());
+  if (Status s = writeStationLoopClosures(o.out, result); !s) return fail(s.message());
   std::ofstream(fs::path(o.out) / "config.json") << config.value() << "\n";
 
   // Bandwidth of every update the station holds (those of earlier runs on this folder too), from
@@ -239,8 +230,8 @@ int runStationCommand(const StationCommandOptions& o) {
             << result.robots
             << "; global frame: robot " << result.global_robot.str() << "'s\n"
             << "outputs in " << o.out
-            << ": graph.json, graph.spark.json, mesh.ply, timing.csv, config.json, station.json, "
-               "bandwidth.csv, bandwidth.svg, journal.sqlite\n";
+            << ": graph.json, graph.spark.json, mesh.ply, timing.csv, loop_closures.csv, config.json, "
+               "station.json, bandwidth.csv, bandwidth.svg, journal.sqlite\n";
   return 0;
 }
 

@@ -2,7 +2,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 
+#include "hydra_multi/apps/loop_closure_csv.h"
 #include "hydra_multi/dsg/io/graph_file.h"
 #include "hydra_multi/eval/trajectory_error.h"
 
@@ -28,6 +30,35 @@ Status writeStationOutputs(const std::string& dir, const StationResult& result) 
            << r.report.variables << "," << r.report.factors << "\n";
   }
   if (!timing) return Error{"cannot write " + (out / "timing.csv").string()};
+  return Status::Ok();
+}
+
+LoopClosureVerdict verdictOf(const StationResult& result, const DetectedLoopClosure& c) {
+  const auto averaged = result.alignment_inliers.find({c.keyframe_a, c.keyframe_b});
+  const auto kept = result.inter_robot_inliers.find({c.keyframe_a, c.keyframe_b});
+  LoopClosureVerdict verdict;
+  verdict.alignment_inlier = averaged != result.alignment_inliers.end() && averaged->second;
+  verdict.kept = kept != result.inter_robot_inliers.end() && kept->second;
+  return verdict;
+}
+
+int64_t keyframeStamp(const StationResult& result, NodeId keyframe) {
+  const auto it = result.keyframe_stamps.find(keyframe);
+  return it == result.keyframe_stamps.end() ? -1 : it->second;
+}
+
+Status writeStationLoopClosures(const std::string& dir, const StationResult& result) {
+  const std::string path = (std::filesystem::path(dir) / "loop_closures.csv").string();
+  std::ofstream csv(path);
+  csv << kLoopClosureMeasurementColumns << ",alignment_inlier,kept\n" << std::setprecision(9);
+  for (const DetectedLoopClosure& c : result.loop_closures) {
+    if (!c.interRobot()) continue;
+    writeLoopClosureMeasurement(csv, c, keyframeStamp(result, c.keyframe_a),
+                                keyframeStamp(result, c.keyframe_b));
+    const LoopClosureVerdict verdict = verdictOf(result, c);
+    csv << "," << verdict.alignment_inlier << "," << verdict.kept << "\n";
+  }
+  if (!csv) return Error{"cannot write " + path};
   return Status::Ok();
 }
 

@@ -12,6 +12,19 @@ namespace hydra_multi::apps {
 
 Status writeStationOutputs(const std::string& dir, const StationResult& result);
 
+/// What the station made of an inter-robot loop closure in its last round.
+struct LoopClosureVerdict {
+  bool alignment_inlier = false;  ///< in its robot pair's consensus (initial alignment)
+  bool kept = false;              ///< an inlier of GNC in the last backend round
+};
+LoopClosureVerdict verdictOf(const StationResult& result, const DetectedLoopClosure& closure);
+/// A keyframe's stamp as the frontend holds it (-1: unknown).
+int64_t keyframeStamp(const StationResult& result, NodeId keyframe);
+
+/// DIR/loop_closures.csv without the ground truth: the inter-robot loop closures as measured,
+/// with the station's verdicts (`station`; `run` writes its own with the truth's).
+Status writeStationLoopClosures(const std::string& dir, const StationResult& result);
+
 /// Median and maximum, for the summaries: frontend ms per update, backend ms per round.
 struct StationTimes {
   double frontend_ms_p50 = 0.0, frontend_ms_max = 0.0, backend_ms_p50 = 0.0, backend_ms_max = 0.0;

@@ -5,23 +5,16 @@
 // every update. Ends at the station's final graph, after --count updates, at --timeout, or at
 // SIGINT/SIGTERM.
 
-#include <atomic>
 #include <chrono>
-#include <csignal>
 #include <filesystem>
 #include <iostream>
 
 #include "hydra_multi/apps/commands.h"
+#include "hydra_multi/apps/stop_signals.h"
 #include "hydra_multi/dsg/io/graph_file.h"
 #include "hydra_multi/net/fused_graph.h"
 
 namespace hydra_multi::apps {
-namespace {
-
-std::atomic<bool> watch_stop{false};
-extern "C" void onWatchSignal(int) { watch_stop = true; }
-
-}  // namespace
 
 int runWatch(const WatchOptions& o) {
   using Clock = std::chrono::steady_clock;
@@ -32,9 +25,7 @@ int runWatch(const WatchOptions& o) {
   const Clock::time_point start = Clock::now();
   size_t updates = 0;
   Status written = Status::Ok();
-  watch_stop = false;
-  std::signal(SIGINT, onWatchSignal);
-  std::signal(SIGTERM, onWatchSignal);
+  const StopSignals signals;
   const auto each = [&](const net::WatchState& state) {
     ++updates;
     std::cout << net::describeFused(state.summary()) << std::endl;
@@ -48,13 +39,11 @@ int runWatch(const WatchOptions& o) {
     }
   };
   Status status = Status::Ok();
-  while (status.ok() && written.ok() && !watch_stop && !watcher.ended() &&
+  while (status.ok() && written.ok() && !StopSignals::requested() && !watcher.ended() &&
          !(o.count > 0 && updates >= o.count) &&
          !(o.timeout_s > 0.0 &&
            std::chrono::duration<double>(Clock::now() - start).count() >= o.timeout_s))
     status = watcher.pump(std::chrono::milliseconds(100), each);
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
   if (!status.ok()) return fail(status.message());
   if (!written.ok()) return fail(written.message());
   std::cerr << "watch: " << updates << " fused updates (" << watcher.snapshots() << " snapshots, "
