@@ -259,6 +259,29 @@ TEST(StationServer, RobotWaitsAndReconnects) {
   EXPECT_EQ(client.counts().acknowledged, stream.size());
 }
 
+// Every status_s the station says how each robot is doing: connected, its updates, its bytes;
+// once it said BYE, done.
+TEST(StationServer, ProgressLinePerRobot) {
+  StationServerOptions options;
+  options.status_s = 0.2;
+  Served served(0, options);
+  RobotClient client(kA, kProvidesAll, clientOptions(served.endpoint()));
+  for (size_t i = 0; i < 3; ++i) ASSERT_TRUE(client.enqueue(tiny().streams[0][i]));
+  client.pump(500ms);
+  EXPECT_EQ(client.unacknowledged(), 0u);
+  ASSERT_TRUE(client.finish(5s));
+  std::this_thread::sleep_for(300ms);
+  served.stop();
+  bool connected = false, done = false;
+  for (const std::string& line : served.log()) {
+    connected |= line.rfind("station: robot a: connected, 3 updates, ", 0) == 0 &&
+                 line.find(" MB received") != std::string::npos;
+    done |= line.rfind("station: robot a: done (BYE), 3 updates, ", 0) == 0;
+  }
+  EXPECT_TRUE(connected);
+  EXPECT_TRUE(done);
+}
+
 // Nodes per layer of a graph, to compare maps.
 std::map<Layer, size_t> nodesPerLayer(const SceneGraph& graph) {
   std::map<Layer, size_t> counts;
