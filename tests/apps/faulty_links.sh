@@ -5,8 +5,10 @@
 # a proxy of the test's own (tests/support/fault_proxy.cpp) that delays all traffic by 50 ms and
 # cuts each connection at a random moment (mean 1.5 s). Nothing is lost: every update applied
 # once, none behind a gap or rejected, and the map is run's on the same dataset. Needs root (for
-# the namespaces) and iptables: without them it says so and is skipped (exit 77). Bounded: 80 s;
-# every process started here is stopped and both namespaces deleted when it ends, also on failure.
+# the namespaces) and iptables: without them it says so and is skipped (exit 77). Bounded: it ends
+# itself after 100 s, saying where it was; every process started here is stopped and both
+# namespaces deleted when it ends, also on failure, and namespaces of an earlier run that was
+# killed are deleted at its start.
 #   usage: faulty_links.sh HYDRA_MULTI FAULT_PROXY DATASET OUT_DIR SPEED
 set -u
 HM=$1
@@ -25,13 +27,27 @@ done
 ns_station=hm$$s
 ns_robots=hm$$r
 subnet=10.231.$(($$ % 250))
+# Namespaces an earlier run of this test left behind when it was killed (hmPIDs, hmPIDr, with
+# PID no longer running): ours by their names, removed.
+for ns in $(ip netns list | awk '{ print $1 }' | grep -E '^hm[0-9]+[sr]$'); do
+  pid=${ns#hm}
+  pid=${pid%?}
+  kill -0 "$pid" 2> /dev/null || ip netns del "$ns"
+done
+step="setting up"
 namespaces_cleanup() {
+  [ -n "${watchdog:-}" ] && pkill -P "$watchdog" 2> /dev/null  # its sleep
   spawn_cleanup
   ip netns del "$ns_station" 2> /dev/null
   ip netns del "$ns_robots" 2> /dev/null
   return 0
 }
 trap namespaces_cleanup EXIT
+# The test ends by itself within 100 s, before ctest's timeout could kill it without its cleanup.
+trap 'echo "FAIL: still $step after 100 s"; cat "$OUT"/*.txt; exit 1' USR1
+(sleep 100 && kill -USR1 $$) > /dev/null 2>&1 &
+watchdog=$!
+pids+=("$watchdog")
 ip netns add "$ns_station" || { echo "SKIP: cannot make a network namespace"; exit 77; }
 ip netns add "$ns_robots" || exit 1
 ip link add hm$$a netns "$ns_station" type veth peer name hm$$b netns "$ns_robots" || exit 1
@@ -60,12 +76,16 @@ for robot in a b; do
     --speed "$SPEED" --quiet
   robots+=("$spawned")
 done
+step="waiting for the robots"
 status=0
 for p in "${robots[@]}"; do wait "$p" || status=1; done
 [ "$status" -eq 0 ] || { echo "FAIL: a robot failed"; cat "$OUT"/*.txt; exit 1; }
+step="waiting for the station"
 wait "$station" || { echo "FAIL: the station failed"; cat "$OUT"/*.txt; exit 1; }
+step="stopping the proxy"
 kill -TERM "$proxy"
 wait "$proxy"
+step="comparing the map with run's"
 dropped=$(in_robots iptables -L -v -n -x | awk '$3 == "DROP" { n += $1 } END { print n + 0 }')
 echo "dropped $dropped packets on the robots' link"
 cat "$OUT/proxy.txt" "$OUT"/robot_*.txt
