@@ -106,6 +106,7 @@ struct RunOptions {
   std::string config;             ///< station configuration file (JSON)
   bool quiet = false;
   bool print_summary = true;  ///< the summary on stdout
+  bool bandwidth = true;      ///< write bandwidth.csv and bandwidth.svg (trials leave them out)
 };
 int runRun(const RunOptions& options);
 /// A run's OUT/inputs.json: the method, the configuration (canonical) and the recipe of the

@@ -100,6 +100,15 @@ int runRun(const RunOptions& o) {
 
   const fs::path out(o.out);
   if (Status s = writeStationOutputs(o.out, result); !s) return fail(s.message());
+  // What the streams' updates weigh against full resends of each robot's map (bandwidth.h).
+  RobotBandwidth sent;
+  if (o.bandwidth) {
+    BandwidthLedger ledger;
+    for (const RobotUpdate& u : streams.value().updates) ledger.add(u);
+    auto bandwidth = writeBandwidth(o.out, ledger);
+    if (!bandwidth) return fail(bandwidth.error());
+    sent = teamBandwidth(bandwidth.value());
+  }
 
   // Evaluation, after the run: only now is the ground truth read.
   auto truth = readDatasetGroundTruth(o.dataset);
@@ -235,9 +244,12 @@ int runRun(const RunOptions& o) {
             << times.frontend_ms_max << " ms\n"
             << "  backend per round     median " << times.backend_ms_p50 / 1e3 << " s, max "
             << times.backend_ms_max / 1e3 << " s\n"
+            << "  bandwidth             " << sent.record_bytes << " bytes of updates; as full resends "
+            << sent.full_resend_bytes << " bytes, " << show(fullResendRatio(sent), 1)
+            << " times more\n"
             << "outputs in " << o.out
             << ": graph.json, graph.spark.json, mesh.ply, metrics.json, config.json, "
-               "inputs.json, timing.csv, loop_closures.csv\n";
+               "inputs.json, timing.csv, loop_closures.csv, bandwidth.csv, bandwidth.svg\n";
   return 0;
 }
 

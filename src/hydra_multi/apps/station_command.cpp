@@ -146,27 +146,15 @@ int runStationCommand(const StationCommandOptions& o) {
     if (auto u = io::decodeRobotUpdateBinary(e.payload)) ledger.add(u.value(), e.wire_bytes);
   });
   if (!reread) return fail(reread.message());
-  const std::vector<UpdateBandwidth> bandwidth = ledger.rows();
-  std::ofstream(fs::path(o.out) / "bandwidth.csv") << bandwidthCsv(bandwidth);
-  std::ofstream(fs::path(o.out) / "bandwidth.svg") << bandwidthSvg(bandwidth);
-  const std::map<RobotId, RobotBandwidth> sent = bandwidthTotals(bandwidth);
+  auto written = writeBandwidth(o.out, ledger);
+  if (!written) return fail(written.error());
+  const std::map<RobotId, RobotBandwidth>& sent = written.value();
+  const RobotBandwidth team = teamBandwidth(sent);
   std::ostringstream ledger_s;
   ledger_s << std::fixed << std::setprecision(1)
            << std::chrono::duration<double>(std::chrono::steady_clock::now() - ledger_start).count();
-  log("station: bandwidth of " + std::to_string(bandwidth.size()) + " updates against full " +
+  log("station: bandwidth of " + std::to_string(team.updates) + " updates against full " +
       "resends in " + ledger_s.str() + " s");
-  RobotBandwidth team;
-  for (const auto& [robot, t] : sent) {
-    team.updates += t.updates;
-    team.wire_bytes += t.wire_bytes;
-    team.record_bytes += t.record_bytes;
-    team.full_resend_bytes += t.full_resend_bytes;
-    team.without_full_resend += t.without_full_resend;
-  }
-  // Like for like: full resends against the same updates uncompressed.
-  const auto ratio = [](const RobotBandwidth& t) {
-    return t.record_bytes > 0 ? double(t.full_resend_bytes) / double(t.record_bytes) : 0.0;
-  };
 
   const net::StationServerCounts& counts = server.value()->counts();
   const StationTimes times = stationTimes(result);
@@ -202,7 +190,7 @@ int runStationCommand(const StationCommandOptions& o) {
                                           {"update_bytes", team.wire_bytes},
                                           {"update_record_bytes", team.record_bytes},
                                           {"full_resend_bytes", team.full_resend_bytes},
-                                          {"full_resend_ratio", ratio(team)},
+                                          {"full_resend_ratio", fullResendRatio(team)},
                                           {"updates_without_full_resend", team.without_full_resend},
                                           {"journal", journal_path},
                                           {"journal_entries", journal.value()->size()},
@@ -224,7 +212,7 @@ int runStationCommand(const StationCommandOptions& o) {
             << " updates resent and held already, " << refused << " refused\n"
             << "  bandwidth             " << team.wire_bytes << " bytes of updates on the wire, "
             << team.record_bytes << " uncompressed; as full resends " << team.full_resend_bytes
-            << " bytes uncompressed, " << std::setprecision(1) << ratio(team)
+            << " bytes uncompressed, " << std::setprecision(1) << fullResendRatio(team)
             << " times more (bandwidth.csv, bandwidth.svg)\n"
             << std::setprecision(2) << "  robots aligned        " << result.aligned.size() << " of "
             << result.robots

@@ -62,6 +62,17 @@ Status writeStationLoopClosures(const std::string& dir, const StationResult& res
   return Status::Ok();
 }
 
+Result<std::map<RobotId, RobotBandwidth>> writeBandwidth(const std::string& dir,
+                                                         const BandwidthLedger& ledger) {
+  const std::vector<UpdateBandwidth> rows = ledger.rows();
+  const std::filesystem::path out(dir);
+  std::ofstream(out / "bandwidth.csv") << bandwidthCsv(rows);
+  std::ofstream svg(out / "bandwidth.svg");
+  svg << bandwidthSvg(rows);
+  if (!svg) return Error{"cannot write " + (out / "bandwidth.svg").string()};
+  return bandwidthTotals(rows);
+}
+
 StationTimes stationTimes(const StationResult& result) {
   std::vector<double> frontend_ms, backend_ms;
   for (const UpdateTiming& u : result.updates) frontend_ms.push_back(u.frontend_ms);

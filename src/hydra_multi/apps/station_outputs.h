@@ -6,6 +6,7 @@
 #include <string>
 
 #include "hydra_multi/core/result.h"
+#include "hydra_multi/station/bandwidth.h"
 #include "hydra_multi/station/station.h"
 
 namespace hydra_multi::apps {
@@ -30,5 +31,9 @@ struct StationTimes {
   double frontend_ms_p50 = 0.0, frontend_ms_max = 0.0, backend_ms_p50 = 0.0, backend_ms_max = 0.0;
 };
 StationTimes stationTimes(const StationResult& result);
+
+/// DIR/bandwidth.csv and DIR/bandwidth.svg of a ledger's updates; what they add up to per robot.
+Result<std::map<RobotId, RobotBandwidth>> writeBandwidth(const std::string& dir,
+                                                         const BandwidthLedger& ledger);
 
 }  // namespace hydra_multi::apps

@@ -179,6 +179,7 @@ int runTrials(const TrialsOptions& o) {
         run.config = o.config;
         run.quiet = true;
         run.print_summary = false;
+        run.bandwidth = false;  // seconds per run that no table uses
         if (method == "full" || method == "no-ia" || method == "no-rec")
           run.ablation = method;
         else

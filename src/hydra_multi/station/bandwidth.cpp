@@ -60,6 +60,22 @@ std::map<RobotId, RobotBandwidth> bandwidthTotals(const std::vector<UpdateBandwi
   return totals;
 }
 
+RobotBandwidth teamBandwidth(const std::map<RobotId, RobotBandwidth>& robots) {
+  RobotBandwidth team;
+  for (const auto& [robot, t] : robots) {
+    team.updates += t.updates;
+    team.wire_bytes += t.wire_bytes;
+    team.record_bytes += t.record_bytes;
+    team.full_resend_bytes += t.full_resend_bytes;
+    team.without_full_resend += t.without_full_resend;
+  }
+  return team;
+}
+
+double fullResendRatio(const RobotBandwidth& t) {
+  return t.record_bytes > 0 ? double(t.full_resend_bytes) / double(t.record_bytes) : 0.0;
+}
+
 std::string bandwidthCsv(const std::vector<UpdateBandwidth>& rows) {
   std::ostringstream csv;
   csv << "robot,sequence,time_s,kind,wire_bytes,record_bytes,header_bytes,nodes_edges_bytes,mesh_bytes,"

@@ -54,6 +54,10 @@ class BandwidthLedger {
 
 /// The rows added up per robot.
 std::map<RobotId, RobotBandwidth> bandwidthTotals(const std::vector<UpdateBandwidth>& rows);
+/// Every robot's added up.
+RobotBandwidth teamBandwidth(const std::map<RobotId, RobotBandwidth>& robots);
+/// Like for like: full resends over the same updates uncompressed (0 without updates).
+double fullResendRatio(const RobotBandwidth& totals);
 
 /// One line per update: robot, sequence, time, kind, wire and record bytes, the parts, full
 /// resend.
