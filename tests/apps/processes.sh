@@ -3,6 +3,16 @@
 # `timeout` passes on to its command; the station ends cleanly on it), `await_endpoint` waits
 # for a station's bound endpoint and refuses one that is not 127.0.0.1, and `compare_with_run`
 # says whether a station's map scores as run's.
+# Sourced as `. processes.sh with_dataset HYDRA_MULTI DATASET OUT_DIR`: those three arguments in
+# HM, DATASET and OUT, and OUT made anew, empty.
+if [ "${1:-}" = with_dataset ]; then
+  HM=$2
+  DATASET=$3
+  OUT=$4
+  rm -rf "$OUT"
+  mkdir -p "$OUT"
+fi
+
 pids=()
 spawn_cleanup() {
   for p in "${pids[@]}"; do kill -TERM "$p" 2> /dev/null; done

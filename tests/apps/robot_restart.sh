@@ -8,12 +8,7 @@
 # every process started here is killed when the script ends.
 #   usage: robot_restart.sh HYDRA_MULTI DATASET OUT_DIR
 set -u
-HM=$1
-DATASET=$2
-OUT=$3
-rm -rf "$OUT"
-mkdir -p "$OUT"
-. "$(dirname "$0")/processes.sh"
+. "$(dirname "$0")/processes.sh" with_dataset "$@"
 
 spawn "$OUT/station.txt" timeout 50 "$HM" station --listen 'tcp://127.0.0.1:*' \
   --out "$OUT/station" --expect-robots 2 --order time

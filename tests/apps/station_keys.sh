@@ -5,12 +5,8 @@
 # refusal. Bounded: 60 s; every process started here is stopped when the script ends.
 #   usage: station_keys.sh HYDRA_MULTI DATASET OUT_DIR
 set -u
-HM=$1
-DATASET=$2
-OUT=$3
-rm -rf "$OUT"
+. "$(dirname "$0")/processes.sh" with_dataset "$@"
 mkdir -p "$OUT/keys/robots"
-. "$(dirname "$0")/processes.sh"
 
 for k in station a b; do "$HM" keygen --out "$OUT/keys/$k" > /dev/null || exit 1; done
 cp "$OUT/keys/a.pub" "$OUT/keys/robots/"

@@ -7,12 +7,7 @@
 # Bounded: 60 s; every process started here is killed when the script ends.
 #   usage: station_restart.sh HYDRA_MULTI DATASET OUT_DIR
 set -u
-HM=$1
-DATASET=$2
-OUT=$3
-rm -rf "$OUT"
-mkdir -p "$OUT"
-. "$(dirname "$0")/processes.sh"
+. "$(dirname "$0")/processes.sh" with_dataset "$@"
 
 # Not under timeout: the station itself must get the SIGKILL (the cleanup stops it in any case).
 spawn "$OUT/first.txt" "$HM" station --listen 'tcp://127.0.0.1:*' --out "$OUT/station" \

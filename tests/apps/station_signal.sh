@@ -4,12 +4,7 @@
 # interrupted ZeroMQ's poll and the station aborted. Loopback only; bounded: 60 s.
 #   usage: station_signal.sh HYDRA_MULTI DATASET OUT_DIR
 set -u
-HM=$1
-DATASET=$2
-OUT=$3
-rm -rf "$OUT"
-mkdir -p "$OUT"
-. "$(dirname "$0")/processes.sh"
+. "$(dirname "$0")/processes.sh" with_dataset "$@"
 
 spawn "$OUT/station.txt" "$HM" station --listen 'tcp://127.0.0.1:*' --out "$OUT/station"
 station=$spawned

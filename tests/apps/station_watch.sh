@@ -6,12 +6,7 @@
 # here is stopped when it ends.
 #   usage: station_watch.sh HYDRA_MULTI DATASET OUT_DIR
 set -u
-HM=$1
-DATASET=$2
-OUT=$3
-rm -rf "$OUT"
-mkdir -p "$OUT"
-. "$(dirname "$0")/processes.sh"
+. "$(dirname "$0")/processes.sh" with_dataset "$@"
 
 spawn "$OUT/station.txt" timeout 50 "$HM" station --listen 'tcp://127.0.0.1:*' \
   --publish 'tcp://127.0.0.1:*' --out "$OUT/station" --expect-robots 2
