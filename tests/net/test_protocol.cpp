@@ -49,6 +49,7 @@ TEST(Protocol, EveryTypeRoundTrips) {
   EXPECT_EQ(s.epoch, 3u);
   EXPECT_EQ(s.next_sequence, 17u);
   EXPECT_EQ(encodeMessage(snapshotRequest(3, 17)).front().size(), 20u);  // header and two fields
+  EXPECT_EQ(updateFramingBytes(), encodeMessage(update(3, 41, "payload")).front().size());
 }
 
 std::string refusal(const std::vector<std::string>& frames) {

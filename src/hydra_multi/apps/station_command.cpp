@@ -141,7 +141,7 @@ int runStationCommand(const StationCommandOptions& o) {
   // Bandwidth of every update the station holds (those of earlier runs on this folder too), from
   // the journal: its message's bytes against a full resend of the robot's map at that moment.
   const auto ledger_start = std::chrono::steady_clock::now();
-  BandwidthLedger ledger(net::encodeMessage(net::update(0, 0, {})).front().size());
+  BandwidthLedger ledger(net::updateFramingBytes());
   const Status reread = journal.value()->replay([&](store::JournalEntry&& e) {
     if (auto u = io::decodeRobotUpdateBinary(e.payload)) ledger.add(u.value(), e.wire_bytes);
   });

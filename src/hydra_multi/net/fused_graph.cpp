@@ -4,7 +4,6 @@
 #include <condition_variable>
 #include <deque>
 #include <mutex>
-#include <sstream>
 #include <nlohmann/json.hpp>
 #include <thread>
 #include <zmq.hpp>
@@ -14,12 +13,12 @@
 #include "hydra_multi/dsg/io/binary_format.h"
 #include "hydra_multi/dsg/io/byte_codec.h"
 #include "hydra_multi/dsg/io/decode_error.h"
+#include "hydra_multi/net/clock.h"
 #include "hydra_multi/net/interruptible_poll.h"
 
 namespace hydra_multi::net {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using Json = nlohmann::json;
 
 constexpr uint8_t kVersion = 1;
@@ -320,14 +319,9 @@ Status GraphWatcher::pump(std::chrono::milliseconds budget,
   const Clock::time_point end = Clock::now() + budget;
   do {
     if (!w.state.started() && !w.waiting) w.request();
-    if (w.waiting && std::chrono::duration<double>(Clock::now() - w.requested_at).count() >
-                         w.options.request_timeout_s)
-    {
-      std::ostringstream seconds;
-      seconds << w.options.request_timeout_s;
+    if (w.waiting && secondsSince(w.requested_at) > w.options.request_timeout_s)
       return Error{w.options.connect + ": no answer to a snapshot request within " +
-                   seconds.str() + " s"};
-    }
+                   secondsText(w.options.request_timeout_s) + " s"};
     zmq::pollitem_t items[] = {{w.dealer.handle(), 0, ZMQ_POLLIN, 0},
                                {w.sub ? w.sub->handle() : nullptr, 0, ZMQ_POLLIN, 0}};
     interruptiblePoll(items, w.sub ? 2 : 1, std::chrono::milliseconds(20));

@@ -194,6 +194,8 @@ Message bye() {
   return m;
 }
 
+size_t updateFramingBytes() { return kHeaderBytes + fixedFieldBytes(MessageType::kUpdate); }
+
 std::vector<std::string> encodeMessage(const Message& m) {
   std::vector<std::string> frames = {header(m)};
   switch (m.type) {

@@ -85,6 +85,10 @@ Message snapshotRequest(uint64_t epoch, uint64_t next_sequence);
 Message heartbeat();
 Message bye();
 
+/// What an UPDATE's message adds to its payload: the header frame (what the bandwidth counts
+/// on the wire besides the record).
+size_t updateFramingBytes();
+
 /// The frames of a message, in order.
 std::vector<std::string> encodeMessage(const Message& message);
 /// A message from its frames; an error says what is wrong ("frame 1: HELLO: no robot name").

@@ -2,13 +2,13 @@
 
 #include <map>
 #include <optional>
-#include <sstream>
 #include <thread>
 #include <zmq.hpp>
 #include <zmq_addon.hpp>
 
 #include "hydra_multi/dsg/io/binary_format.h"
 #include "hydra_multi/dsg/robot_stream.h"
+#include "hydra_multi/net/clock.h"
 #include "hydra_multi/net/interruptible_poll.h"
 #include "hydra_multi/net/keys.h"
 #include "hydra_multi/net/payload.h"
@@ -16,16 +16,6 @@
 
 namespace hydra_multi::net {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-Clock::duration seconds(double s) {
-  return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
-}
 
 struct Entry {
   std::string payload;  // the update as one .dsgb record
@@ -159,12 +149,10 @@ void RobotClient::Impl::connect() {
 }
 
 void RobotClient::Impl::disconnect(const std::string& why) {
-  std::ostringstream delay;
-  delay << backoff_s;
-  log(why + "; connecting again in " + delay.str() + " s");
+  log(why + "; connecting again in " + secondsText(backoff_s) + " s");
   socket.reset();
   state = State::kDisconnected;
-  reconnect_at = Clock::now() + seconds(backoff_s);
+  reconnect_at = Clock::now() + secondsDuration(backoff_s);
   backoff_s = std::min(2.0 * backoff_s, options.backoff_max_s);
   for (auto& [sequence, entry] : outbox) entry.in_flight = false;
   in_flight = 0;
@@ -340,7 +328,7 @@ bool RobotClient::finish(std::chrono::milliseconds timeout) {
     if (c.outbox.empty() && first_bye && secondsSince(*first_bye) > bye_wait_s) {
       c.counts.bye_unanswered = true;
       c.log("every update is acknowledged; the station did not answer BYE within " +
-            std::to_string(static_cast<int>(bye_wait_s)) + " s");
+            secondsText(bye_wait_s) + " s");
       break;
     }
     if (c.outbox.empty() && c.state == Impl::State::kWelcomed &&

@@ -8,24 +8,13 @@
 #include <zmq_addon.hpp>
 
 #include "hydra_multi/dsg/io/binary_format.h"
+#include "hydra_multi/net/clock.h"
 #include "hydra_multi/net/interruptible_poll.h"
 #include "hydra_multi/net/payload.h"
 #include "hydra_multi/net/protocol.h"
 
 namespace hydra_multi::net {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-std::string seconds(double s) {
-  std::ostringstream text;
-  text << s;
-  return text.str();
-}
 
 // A connection: what its HELLO said, and when it was last heard and sent to.
 struct Session {
@@ -239,7 +228,7 @@ void StationServer::Impl::onUpdate(const std::string& id, Session& session, cons
     ++robot.duplicates;
   } else {
     if (options.persist) {
-      const size_t wire = encodeMessage(update(0, 0, {})).front().size() + m.payload.size();
+      const size_t wire = updateFramingBytes() + m.payload.size();
       if (Status stored = options.persist(u, session.epoch, record.value(), wire); !stored)
         return refuse(id, session, RefuseCode::kNotStored,
                       "UPDATE " + std::to_string(m.sequence) +
@@ -344,7 +333,7 @@ void StationServer::Impl::housekeeping() {
   for (auto it = sessions.begin(); it != sessions.end();) {
     Session& s = it->second;
     if (secondsSince(s.last_heard) > gone_s) {
-      log("station: " + who(s) + " silent for " + seconds(gone_s) + " s, taken as gone");
+      log("station: " + who(s) + " silent for " + secondsText(gone_s) + " s, taken as gone");
       it = sessions.erase(it);
       continue;
     }
@@ -356,7 +345,7 @@ void StationServer::Impl::housekeeping() {
         requestSnapshot(it->first, s,
                         "update " + std::to_string(h.next) + " is missing, " +
                             std::to_string(h.ahead.size()) + " later ones held, for " +
-                            seconds(options.gap_s) + " s");
+                            secondsText(options.gap_s) + " s");
     }
     if (secondsSince(s.last_sent) >= options.heartbeat_s) send(it->first, s, heartbeat());
     ++it;
