@@ -49,9 +49,10 @@ int main(int argc, char** argv) {
   const Clock::time_point start = Clock::now();
   const std::vector<UpdateBandwidth> rows = ledger.rows();
   const double ledger_s = secondsSince(start);
-  std::printf("%zu updates of %s; ledger (each robot's map as a full resend at every update) "
-              "in %.2f s\n\n",
-              rows.size(), argv[1], ledger_s);
+  std::printf(
+      "%zu updates of %s; ledger (each robot's map as a full resend at every update) "
+      "in %.2f s\n\n",
+      rows.size(), argv[1], ledger_s);
   std::printf("%-6s %8s %10s %10s %10s %10s %10s %10s %12s %7s\n", "robot", "updates", "ours MB",
               "graph MB", "mesh MB", "poses MB", "deform MB", "descr MB", "full MB", "ratio");
   struct Sums {
@@ -73,9 +74,8 @@ int main(int argc, char** argv) {
   }
   const auto line = [](const std::string& name, const Sums& s) {
     std::printf("%-6s %8zu %10.3f %10.3f %10.3f %10.3f %10.3f %10.3f %12.1f %7.1f\n", name.c_str(),
-                s.updates, s.wire / 1e6, s.graph / 1e6, s.mesh / 1e6, s.poses / 1e6,
-                s.deform / 1e6, s.descr / 1e6, s.full / 1e6,
-                s.wire ? double(s.full) / double(s.wire) : 0.0);
+                s.updates, s.wire / 1e6, s.graph / 1e6, s.mesh / 1e6, s.poses / 1e6, s.deform / 1e6,
+                s.descr / 1e6, s.full / 1e6, s.wire ? double(s.full) / double(s.wire) : 0.0);
   };
   for (const auto& [robot, s] : per_robot) line(robot.str(), s);
   line("team", team);
@@ -103,8 +103,7 @@ int main(int argc, char** argv) {
     t = Clock::now();
     for (size_t i = 0; i < packed.size(); ++i) {
       std::string out(payloads[i].size(), '\0');
-      const size_t n =
-          ZSTD_decompress(out.data(), out.size(), packed[i].data(), packed[i].size());
+      const size_t n = ZSTD_decompress(out.data(), out.size(), packed[i].data(), packed[i].size());
       if (ZSTD_isError(n) || out != payloads[i]) {
         std::fprintf(stderr, "bench_bandwidth: zstd did not give back payload %zu\n", i);
         return 1;

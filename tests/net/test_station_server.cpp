@@ -314,8 +314,7 @@ TEST(StationServer, RestartedRobotIsRecoveredBySnapshot) {
     RobotClient client(kA, kProvidesAll, first);
     for (size_t i = 0; i < 5; ++i) ASSERT_TRUE(client.enqueue(stream[i]));
     const auto end = std::chrono::steady_clock::now() + 5s;
-    while (client.unacknowledged() > 0 && std::chrono::steady_clock::now() < end)
-      client.pump(20ms);
+    while (client.unacknowledged() > 0 && std::chrono::steady_clock::now() < end) client.pump(20ms);
     ASSERT_EQ(client.unacknowledged(), 0u);
   }  // killed: updates 5 to 9 are made while it is down, and never sent
   RobotClientOptions second = clientOptions(served.endpoint());
@@ -329,7 +328,8 @@ TEST(StationServer, RestartedRobotIsRecoveredBySnapshot) {
   EXPECT_EQ(served.counts().snapshots_requested, 1u);
   EXPECT_EQ(client.counts().snapshots, 1u);
   size_t sent_snapshots = 0;  // of the stream's own, those sent (the first update is one)
-  for (size_t i = 0; i < stream.size(); ++i) sent_snapshots += (i < 5 || i >= 10) && stream[i].is_snapshot;
+  for (size_t i = 0; i < stream.size(); ++i)
+    sent_snapshots += (i < 5 || i >= 10) && stream[i].is_snapshot;
   EXPECT_EQ(served.counts().robots.at(kA).snapshots, sent_snapshots + 1);
   EXPECT_EQ(served.counts().robots.at(kA).next_sequence, stream.size());
   const StationResult result = served.finish();

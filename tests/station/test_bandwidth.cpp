@@ -48,7 +48,8 @@ TEST(Bandwidth, FullResendIsTheWholeMapAtEachUpdate) {
       EXPECT_EQ(row->wire_bytes, row->record_bytes);  // no message bytes given
       EXPECT_EQ(row->parts.total() + kFraming, row->record_bytes);
       ASSERT_TRUE(row->full_resend_bytes.has_value());
-      EXPECT_EQ(*row->full_resend_bytes, io::encodeRobotUpdateBinary(map.snapshot()).size() + kFraming);
+      EXPECT_EQ(*row->full_resend_bytes,
+                io::encodeRobotUpdateBinary(map.snapshot()).size() + kFraming);
     }
     // The first update is the whole map: as a full resend it costs what it costs.
     EXPECT_TRUE(stream.front().is_snapshot);

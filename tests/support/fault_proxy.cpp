@@ -200,8 +200,9 @@ int main(int argc, char** argv) {
     }
     links.remove_if([](const Link& link) { return !link.open; });
   }
-  std::printf("fault_proxy: %zu connections, %zu cut, %zu bytes forwarded, %zu not connected "
-              "upstream\n",
-              accepted, cuts, bytes, refused_upstream);
+  std::printf(
+      "fault_proxy: %zu connections, %zu cut, %zu bytes forwarded, %zu not connected "
+      "upstream\n",
+      accepted, cuts, bytes, refused_upstream);
   return 0;
 }

@@ -138,8 +138,8 @@ struct StationCommandOptions {
   std::string keys;  ///< folder of the robots' public keys (a.pub, ...); empty: no authentication
   std::string key;   ///< the station's secret key (with `keys`)
   std::string order = "arrival";  ///< arrival | time: the order the frontend takes updates in
-  std::string publish;  ///< the fused graph's snapshot service (clone pattern); empty: none
-  double order_hold_s = 5.0;      ///< with order time: the longest an update is held
+  std::string publish;        ///< the fused graph's snapshot service (clone pattern); empty: none
+  double order_hold_s = 5.0;  ///< with order time: the longest an update is held
   bool quiet = false;
 };
 int runStationCommand(const StationCommandOptions& options);
@@ -161,17 +161,17 @@ struct RobotCommandOptions {
   /// Unix time the first update is due (with speed > 0); updates due before the process started
   /// are folded into the robot's map, not sent. Absent: the process's start.
   std::optional<double> mission_start_s;
-  bool full_resend = false;     ///< the whole map every update
+  bool full_resend = false;       ///< the whole map every update
   std::string compress = "zstd";  ///< zstd or none
   bool quiet = false;
 };
 int runRobotCommand(const RobotCommandOptions& options);
 
 struct WatchOptions {
-  std::string connect;    ///< a station's --publish endpoint
-  std::string out;        ///< the latest graph goes here (any graph format); empty: none
-  size_t count = 0;       ///< end after this many fused updates (0: at the station's final one)
-  double timeout_s = 0.0; ///< end after this many seconds (0: no limit)
+  std::string connect;     ///< a station's --publish endpoint
+  std::string out;         ///< the latest graph goes here (any graph format); empty: none
+  size_t count = 0;        ///< end after this many fused updates (0: at the station's final one)
+  double timeout_s = 0.0;  ///< end after this many seconds (0: no limit)
   bool quiet = false;
 };
 int runWatch(const WatchOptions& options);

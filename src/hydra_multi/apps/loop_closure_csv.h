@@ -13,7 +13,6 @@
 
 namespace hydra_multi::apps {
 
-
 /// The columns of what the station measured of a loop closure (no truth): ids, stamps, layer,
 /// inliers, score, distinctiveness, the relative pose; and one row of them (no newline).
 extern const char* const kLoopClosureMeasurementColumns;

@@ -254,15 +254,14 @@ int main(int argc, char** argv) {
   station_keys->needs(station_cmd->get_option("--key"));
   station_cmd->add_flag("--quiet", station.quiet, "no progress lines on stderr");
 
-  station_cmd
-      ->add_option("--publish", station.publish,
-                   "publish the fused graph after every backend round (ZeroMQ clone pattern: "
-                   "snapshots on this endpoint, deltas on its port + 1; `watch` subscribes)");
+  station_cmd->add_option(
+      "--publish", station.publish,
+      "publish the fused graph after every backend round (ZeroMQ clone pattern: "
+      "snapshots on this endpoint, deltas on its port + 1; `watch` subscribes)");
   WatchOptions watch;
   CLI::App* watch_cmd = app.add_subcommand(
       "watch", "Subscribe to a station's fused graph (station --publish): one line per update");
-  watch_cmd->add_option("--connect", watch.connect, "the station's --publish endpoint")
-      ->required();
+  watch_cmd->add_option("--connect", watch.connect, "the station's --publish endpoint")->required();
   cli.outputFile(watch_cmd, "--out", watch.out,
                  "write the latest graph here after every update (.json, .dsgb, .spark.json)");
   cli.integer(watch_cmd, "--count", watch.count,

@@ -52,8 +52,8 @@ int runRobotCommand(const RobotCommandOptions& o) {
   if (!o.quiet) options.log = [](const std::string& line) { std::cerr << line << std::endl; };
   net::RobotClient client(entry->robot, updates.front().provided_layers, options);
   const Clock::time_point now = Clock::now();
-  const Clock::time_point deadline = now + std::chrono::duration_cast<Clock::duration>(
-                                               std::chrono::duration<double>(o.timeout_s));
+  const Clock::time_point deadline =
+      now + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.timeout_s));
   // The mission's start on this process's clock.
   Clock::time_point start = now;
   if (o.mission_start_s) {

@@ -244,9 +244,9 @@ int runRun(const RunOptions& o) {
             << times.frontend_ms_max << " ms\n"
             << "  backend per round     median " << times.backend_ms_p50 / 1e3 << " s, max "
             << times.backend_ms_max / 1e3 << " s\n"
-            << "  bandwidth             " << sent.record_bytes << " bytes of updates; as full resends "
-            << sent.full_resend_bytes << " bytes, " << show(fullResendRatio(sent), 1)
-            << " times more\n"
+            << "  bandwidth             " << sent.record_bytes
+            << " bytes of updates; as full resends " << sent.full_resend_bytes << " bytes, "
+            << show(fullResendRatio(sent), 1) << " times more\n"
             << "outputs in " << o.out
             << ": graph.json, graph.spark.json, mesh.ply, metrics.json, config.json, "
                "inputs.json, timing.csv, loop_closures.csv, bandwidth.csv, bandwidth.svg\n";

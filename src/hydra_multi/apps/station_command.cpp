@@ -14,8 +14,8 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <sstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "hydra_multi/apps/commands.h"
 #include "hydra_multi/apps/station_outputs.h"
@@ -151,8 +151,9 @@ int runStationCommand(const StationCommandOptions& o) {
   const std::map<RobotId, RobotBandwidth>& sent = written.value();
   const RobotBandwidth team = teamBandwidth(sent);
   std::ostringstream ledger_s;
-  ledger_s << std::fixed << std::setprecision(1)
-           << std::chrono::duration<double>(std::chrono::steady_clock::now() - ledger_start).count();
+  ledger_s
+      << std::fixed << std::setprecision(1)
+      << std::chrono::duration<double>(std::chrono::steady_clock::now() - ledger_start).count();
   log("station: bandwidth of " + std::to_string(team.updates) + " updates against full " +
       "resends in " + ledger_s.str() + " s");
 
@@ -204,22 +205,21 @@ int runStationCommand(const StationCommandOptions& o) {
   std::ofstream(fs::path(o.out) / "station.json") << summary.dump(2) << "\n";
   size_t refused = 0;
   for (const auto& [reason, n] : counts.refused) refused += n;
-  std::cout << std::fixed << std::setprecision(2) << "station on " << endpoint << ": "
-            << result.robots << " robots, " << result.rounds.size() << " backend rounds, "
-            << result.wall_s << " s\n"
-            << "  updates               " << describeUpdates(result.counts, 0) << "\n"
-            << "  messages              " << counts.bytes << " bytes, " << duplicates
-            << " updates resent and held already, " << refused << " refused\n"
-            << "  bandwidth             " << team.wire_bytes << " bytes of updates on the wire, "
-            << team.record_bytes << " uncompressed; as full resends " << team.full_resend_bytes
-            << " bytes uncompressed, " << std::setprecision(1) << fullResendRatio(team)
-            << " times more (bandwidth.csv, bandwidth.svg)\n"
-            << std::setprecision(2) << "  robots aligned        " << result.aligned.size() << " of "
-            << result.robots
-            << "; global frame: robot " << result.global_robot.str() << "'s\n"
-            << "outputs in " << o.out
-            << ": graph.json, graph.spark.json, mesh.ply, timing.csv, loop_closures.csv, config.json, "
-               "station.json, bandwidth.csv, bandwidth.svg, journal.sqlite\n";
+  std::cout
+      << std::fixed << std::setprecision(2) << "station on " << endpoint << ": " << result.robots
+      << " robots, " << result.rounds.size() << " backend rounds, " << result.wall_s << " s\n"
+      << "  updates               " << describeUpdates(result.counts, 0) << "\n"
+      << "  messages              " << counts.bytes << " bytes, " << duplicates
+      << " updates resent and held already, " << refused << " refused\n"
+      << "  bandwidth             " << team.wire_bytes << " bytes of updates on the wire, "
+      << team.record_bytes << " uncompressed; as full resends " << team.full_resend_bytes
+      << " bytes uncompressed, " << std::setprecision(1) << fullResendRatio(team)
+      << " times more (bandwidth.csv, bandwidth.svg)\n"
+      << std::setprecision(2) << "  robots aligned        " << result.aligned.size() << " of "
+      << result.robots << "; global frame: robot " << result.global_robot.str() << "'s\n"
+      << "outputs in " << o.out
+      << ": graph.json, graph.spark.json, mesh.ply, timing.csv, loop_closures.csv, config.json, "
+         "station.json, bandwidth.csv, bandwidth.svg, journal.sqlite\n";
   return 0;
 }
 

@@ -31,7 +31,8 @@ int runWatch(const WatchOptions& o) {
     std::cout << net::describeFused(state.summary()) << std::endl;
     if (!o.out.empty() && written.ok()) {
       // Written beside, then renamed: a reader never sees half a graph.
-      const std::string partial = o.out + ".partial" + std::filesystem::path(o.out).extension().string();
+      const std::string partial =
+          o.out + ".partial" + std::filesystem::path(o.out).extension().string();
       written = io::saveSceneGraph(partial, state.graph());
       std::error_code ec;
       if (written.ok()) std::filesystem::rename(partial, o.out, ec);

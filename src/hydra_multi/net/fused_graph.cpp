@@ -57,9 +57,13 @@ Result<std::pair<Type, uint64_t>> readHeader(const std::string& frame) {
 
 Json summaryJson(const FusedSummary& s) {
   Json nodes = Json::object();
-  for (const Layer layer : kAllLayers) nodes[layerName(layer)] = s.nodes[static_cast<size_t>(layer)];
-  return Json{{"round", s.round},   {"robots", s.robots}, {"robots_aligned", s.robots_aligned},
-              {"nodes", nodes},     {"final", s.final}};
+  for (const Layer layer : kAllLayers)
+    nodes[layerName(layer)] = s.nodes[static_cast<size_t>(layer)];
+  return Json{{"round", s.round},
+              {"robots", s.robots},
+              {"robots_aligned", s.robots_aligned},
+              {"nodes", nodes},
+              {"final", s.final}};
 }
 
 Result<FusedSummary> parseSummary(const std::string& text, uint64_t sequence) {
@@ -107,13 +111,13 @@ void sendFrames(zmq::socket_t& socket, const std::vector<std::string>& frames) {
 }  // namespace
 
 std::string describeFused(const FusedSummary& s) {
-  std::string text = "sequence " + std::to_string(s.sequence) + " (round " +
-                     std::to_string(s.round) + "):";
+  std::string text =
+      "sequence " + std::to_string(s.sequence) + " (round " + std::to_string(s.round) + "):";
   for (const Layer layer : kAllLayers)
     text += std::string(layer == kAllLayers.front() ? " " : ", ") + layerName(layer) + " " +
             std::to_string(s.nodes[static_cast<size_t>(layer)]);
-  text += "; robots aligned " + std::to_string(s.robots_aligned) + " of " +
-          std::to_string(s.robots);
+  text +=
+      "; robots aligned " + std::to_string(s.robots_aligned) + " of " + std::to_string(s.robots);
   if (s.final) text += "; the station's final graph";
   return text;
 }
@@ -157,8 +161,8 @@ void GraphPublisher::Impl::answer(const std::string& id) {
   summary["publish_port"] = publish_port;
   std::vector<zmq::message_t> parts;
   parts.emplace_back(id.data(), id.size());
-  for (const std::string& f : {header(kSnapshot, last_summary.sequence), summary.dump(),
-                               io::encodeSceneGraphBinary(last)})
+  for (const std::string& f :
+       {header(kSnapshot, last_summary.sequence), summary.dump(), io::encodeSceneGraphBinary(last)})
     parts.emplace_back(f.data(), f.size());
   (void)zmq::send_multipart(router, parts, zmq::send_flags::dontwait);
 }
@@ -169,8 +173,7 @@ void GraphPublisher::Impl::loop() {
     interruptiblePoll(items, 1, std::chrono::milliseconds(20));
     for (int i = 0; i < 100; ++i) {
       std::vector<zmq::message_t> parts;
-      if (!zmq::recv_multipart(router, std::back_inserter(parts), zmq::recv_flags::dontwait))
-        break;
+      if (!zmq::recv_multipart(router, std::back_inserter(parts), zmq::recv_flags::dontwait)) break;
       if (parts.size() < 2) continue;
       const auto head = readHeader(parts[1].to_string());
       if (head && head.value().first == kSnapshotRequest)
@@ -196,9 +199,9 @@ void GraphPublisher::Impl::loop() {
     // The final marker changes nothing (an empty GraphDelta would cut the mesh: its starts are 0).
     const GraphDelta delta = diffGraphs(last, round->final ? last : round->graph);
     if (!round->final) last = std::move(round->graph);
-    FusedSummary summary =
-        round->final ? last_summary
-                     : summaryOf(last, 0, round->round, round->robots, round->aligned);
+    FusedSummary summary = round->final
+                               ? last_summary
+                               : summaryOf(last, 0, round->round, round->robots, round->aligned);
     summary.sequence = last_summary.sequence + 1;
     summary.final = round->final;
     last_summary = summary;
@@ -282,7 +285,8 @@ WatchState::Outcome WatchState::onDelta(const FusedSummary& summary, const Graph
 }
 
 struct GraphWatcher::Impl {
-  explicit Impl(GraphWatcherOptions o) : options(std::move(o)), dealer(context, zmq::socket_type::dealer) {
+  explicit Impl(GraphWatcherOptions o)
+      : options(std::move(o)), dealer(context, zmq::socket_type::dealer) {
     dealer.set(zmq::sockopt::linger, 0);
     dealer.connect(options.connect);
   }
@@ -335,7 +339,8 @@ Status GraphWatcher::pump(std::chrono::milliseconds budget,
       auto summary = parseSummary(parts[1].to_string(), head.value().second);
       auto graph = io::decodeSceneGraphBinary(parts[2].to_string());
       if (!summary || !graph)
-        return Error{w.options.connect + ": snapshot: " + (summary ? graph.error() : summary.error())};
+        return Error{w.options.connect +
+                     ": snapshot: " + (summary ? graph.error() : summary.error())};
       w.waiting = false;
       if (!w.sub) {  // the PUB's port is in the reply
         const Json j = Json::parse(parts[1].to_string(), nullptr, false);

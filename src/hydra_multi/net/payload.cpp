@@ -29,8 +29,8 @@ Result<std::string> expandPayload(std::string_view payload, size_t limit) {
   if (size == ZSTD_CONTENTSIZE_UNKNOWN) return Error{"zstd frame without its content size"};
   if (size == ZSTD_CONTENTSIZE_ERROR) return Error{"zstd frame: not a valid frame header"};
   if (size > limit)
-    return Error{"zstd frame expands to " + std::to_string(size) + " bytes, more than the limit of " +
-                 std::to_string(limit)};
+    return Error{"zstd frame expands to " + std::to_string(size) +
+                 " bytes, more than the limit of " + std::to_string(limit)};
   std::string out(static_cast<size_t>(size), '\0');
   const size_t n = ZSTD_decompress(out.data(), out.size(), payload.data(), payload.size());
   if (ZSTD_isError(n)) return Error{std::string("zstd frame: ") + ZSTD_getErrorName(n)};

@@ -70,8 +70,8 @@ struct RobotClient::Impl {
   size_t in_flight = 0;
   std::string fatal;
   bool bye_answered = false;
-  bool zstd = false;  // the station's WELCOME offers it
-  RobotStreamState map;  // every update enqueued or folded, as one snapshot
+  bool zstd = false;       // the station's WELCOME offers it
+  RobotStreamState map;    // every update enqueued or folded, as one snapshot
   std::string map_broken;  // why `map` is not the robot's map (an update did not add); empty: it is
   RobotClientCounts counts;
 };
@@ -273,7 +273,8 @@ bool RobotClient::enqueue(const RobotUpdate& update) {
   c.addToMap(update);
   // --full-resend: the whole map every time, as the paper's robots send it.
   const bool whole = c.options.full_resend && c.map_broken.empty();
-  c.outbox[update.sequence] = entryOf(io::encodeRobotUpdateBinary(whole ? c.map.snapshot() : update));
+  c.outbox[update.sequence] =
+      entryOf(io::encodeRobotUpdateBinary(whole ? c.map.snapshot() : update));
   return true;
 }
 

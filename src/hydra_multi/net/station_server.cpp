@@ -77,7 +77,7 @@ struct StationServer::Impl {
   void onUpdate(const std::string& id, Session& session, const Message& m);
   void requestSnapshot(const std::string& id, Session& session, const std::string& why);
   void housekeeping();
-  void status();  // one progress line per robot
+  void status();        // one progress line per robot
   void authenticate();  // answers one ZAP request
   std::string who(const Session& s) const {
     return "connection " + std::to_string(s.number) +
@@ -309,13 +309,14 @@ void StationServer::Impl::handle(const std::string& id, const std::vector<std::s
 void StationServer::Impl::status() {
   for (const auto& [robot, c] : counts.robots) {
     bool connected = false;
-    for (const auto& [id, session] : sessions) connected |= session.welcomed && session.robot == robot;
+    for (const auto& [id, session] : sessions)
+      connected |= session.welcomed && session.robot == robot;
     const double silent = secondsSince(held[robot].heard);
     std::ostringstream line;
     line.setf(std::ios::fixed);
     line.precision(2);
     line << "station: robot " << robot.str() << ": "
-         << (c.said_bye       ? std::string("done (BYE)")
+         << (c.said_bye ? std::string("done (BYE)")
              : connected && silent < options.heartbeat_s * options.missed_heartbeats
                  ? std::string("connected")
                  : "silent for " + std::to_string(static_cast<int>(silent)) + " s")

@@ -78,13 +78,15 @@ double fullResendRatio(const RobotBandwidth& t) {
 
 std::string bandwidthCsv(const std::vector<UpdateBandwidth>& rows) {
   std::ostringstream csv;
-  csv << "robot,sequence,time_s,kind,wire_bytes,record_bytes,header_bytes,nodes_edges_bytes,mesh_bytes,"
+  csv << "robot,sequence,time_s,kind,wire_bytes,record_bytes,header_bytes,nodes_edges_bytes,mesh_"
+         "bytes,"
          "pose_graph_bytes,deformation_bytes,descriptor_bytes,full_resend_bytes\n";
   for (const UpdateBandwidth& r : rows) {
     csv << r.robot.str() << ',' << r.sequence << ',' << svg::fixed(double(r.time_ns) * 1e-9, 3)
-        << ',' << (r.snapshot ? "snapshot" : "delta") << ',' << r.wire_bytes << ',' << r.record_bytes << ','
-        << r.parts.header << ',' << r.parts.nodes_edges << ',' << r.parts.mesh << ','
-        << r.parts.pose_graph << ',' << r.parts.deformation << ',' << r.parts.descriptors << ','
+        << ',' << (r.snapshot ? "snapshot" : "delta") << ',' << r.wire_bytes << ','
+        << r.record_bytes << ',' << r.parts.header << ',' << r.parts.nodes_edges << ','
+        << r.parts.mesh << ',' << r.parts.pose_graph << ',' << r.parts.deformation << ','
+        << r.parts.descriptors << ','
         << (r.full_resend_bytes ? std::to_string(*r.full_resend_bytes) : std::string()) << '\n';
   }
   return csv.str();
@@ -134,15 +136,14 @@ std::string bandwidthSvg(const std::vector<UpdateBandwidth>& rows) {
   out << svg::header(width, height, "Bandwidth: our updates against full resends (cumulative)");
   for (double d = decade_lo; d <= decade_hi + 1e-9; d += 1.0) {
     const double mb = std::pow(10.0, d);
-    out << "<line x1=\"" << left << "\" x2=\"" << left + plot_w << "\" y1=\"" << Y(mb)
-        << "\" y2=\"" << Y(mb) << "\" stroke=\"#ddd\"/><text x=\"" << left - 6 << "\" y=\""
-        << Y(mb) + 4 << "\" text-anchor=\"end\">" << svg::fixed(mb, d < 0 ? int(-d) : 0)
-        << "</text>\n";
+    out << "<line x1=\"" << left << "\" x2=\"" << left + plot_w << "\" y1=\"" << Y(mb) << "\" y2=\""
+        << Y(mb) << "\" stroke=\"#ddd\"/><text x=\"" << left - 6 << "\" y=\"" << Y(mb) + 4
+        << "\" text-anchor=\"end\">" << svg::fixed(mb, d < 0 ? int(-d) : 0) << "</text>\n";
   }
   for (int t = 0; t <= 5; ++t) {
     const double xv = x_max * t / 5.0;
-    out << "<text x=\"" << X(xv) << "\" y=\"" << top + plot_h + 18
-        << "\" text-anchor=\"middle\">" << svg::fixed(xv, 0) << "</text>\n";
+    out << "<text x=\"" << X(xv) << "\" y=\"" << top + plot_h + 18 << "\" text-anchor=\"middle\">"
+        << svg::fixed(xv, 0) << "</text>\n";
   }
   out << "<text x=\"" << left + plot_w / 2 << "\" y=\"" << height - 12
       << "\" text-anchor=\"middle\">robot time (s)</text>\n"
@@ -153,7 +154,9 @@ std::string bandwidthSvg(const std::vector<UpdateBandwidth>& rows) {
       << left << "\" y1=\"" << top << "\" y2=\"" << top + plot_h << "\" stroke=\"black\"/>\n";
   // Solid: our updates; dotted: the same on the wire (compressed); dashed: full resends.
   const auto dashes = [](const std::string& kind) {
-    return kind == "full" ? " stroke-dasharray=\"6 4\"" : kind == "wire" ? " stroke-dasharray=\"2 3\"" : "";
+    return kind == "full"   ? " stroke-dasharray=\"6 4\""
+           : kind == "wire" ? " stroke-dasharray=\"2 3\""
+                            : "";
   };
   const auto polyline = [&](const std::vector<std::pair<double, double>>& points,
                             const char* colour, const std::string& kind, const std::string& title) {

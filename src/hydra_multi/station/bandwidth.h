@@ -21,8 +21,8 @@ struct UpdateBandwidth {
   uint64_t sequence = 0;
   int64_t time_ns = 0;
   bool snapshot = false;
-  size_t wire_bytes = 0;    ///< its message as it came: the payload (compressed or not), framing
-  size_t record_bytes = 0;  ///< its message uncompressed: the record and the framing
+  size_t wire_bytes = 0;       ///< its message as it came: the payload (compressed or not), framing
+  size_t record_bytes = 0;     ///< its message uncompressed: the record and the framing
   io::RobotUpdateBytes parts;  ///< of the record
   /// The same moment as a full resend (the whole map uncompressed, with the same framing); none
   /// after a gap.

@@ -92,7 +92,8 @@ struct Station::Impl {
   void releaseOrdered(bool everything = false) {
     if (!time_order) return;
     const Clock::time_point now = Clock::now();
-    for (RobotUpdate& u : time_order->release(now, everything)) queue.emplace_back(std::move(u), now);
+    for (RobotUpdate& u : time_order->release(now, everything))
+      queue.emplace_back(std::move(u), now);
   }
 
   void log(const std::string& line) {

@@ -60,10 +60,11 @@ Result<std::unique_ptr<Journal>> Journal::open(const std::string& path, Durabili
     return Error{s.message()};
   if (Status s = impl->exec(kSchema, "not a journal of robot updates"); !s)
     return Error{s.message()};
-  if (sqlite3_prepare_v2(impl->db,
-                         "INSERT INTO updates (robot, epoch, sequence, payload, arrival_ns, snapshot, "
-                         "wire_bytes) VALUES (?, ?, ?, ?, ?, ?, ?)",
-                         -1, &impl->insert, nullptr) != SQLITE_OK)
+  if (sqlite3_prepare_v2(
+          impl->db,
+          "INSERT INTO updates (robot, epoch, sequence, payload, arrival_ns, snapshot, "
+          "wire_bytes) VALUES (?, ?, ?, ?, ?, ?, ?)",
+          -1, &impl->insert, nullptr) != SQLITE_OK)
     return Error{impl->error("not a journal of robot updates (its table has other columns)")};
   return std::unique_ptr<Journal>(new Journal(std::move(impl)));
 }
@@ -96,10 +97,11 @@ Status Journal::append(const JournalEntry& e) {
 
 Status Journal::replay(const std::function<void(JournalEntry&&)>& each) const {
   sqlite3_stmt* s = nullptr;
-  if (sqlite3_prepare_v2(impl_->db,
-                         "SELECT robot, epoch, sequence, payload, arrival_ns, snapshot, wire_bytes FROM updates "
-                         "ORDER BY id",
-                         -1, &s, nullptr) != SQLITE_OK)
+  if (sqlite3_prepare_v2(
+          impl_->db,
+          "SELECT robot, epoch, sequence, payload, arrival_ns, snapshot, wire_bytes FROM updates "
+          "ORDER BY id",
+          -1, &s, nullptr) != SQLITE_OK)
     return Error{impl_->error("cannot read the journal")};
   int rc = SQLITE_ROW;
   size_t row = 0;

@@ -1,10 +1,11 @@
 #pragma once
 // The durable journal of the updates the station accepted (SQLite, WAL mode; DESIGN.md "The
 // station as a service"): one row and one transaction per update (robot, epoch, sequence, the
-// update as its .dsgb record, arrival time, whether it is a snapshot, the bytes of its message), written before the update is acknowledged, so that
-// a station that restarts on the same folder replays it and loses nothing it acknowledged. A
-// robot's sequence is in the journal at most once as a delta and once as a snapshot (a snapshot
-// the station asked for may carry the sequence of a delta it holds beyond a gap). SQLite stays inside this unit.
+// update as its .dsgb record, arrival time, whether it is a snapshot, the bytes of its message),
+// written before the update is acknowledged, so that a station that restarts on the same folder
+// replays it and loses nothing it acknowledged. A robot's sequence is in the journal at most once
+// as a delta and once as a snapshot (a snapshot the station asked for may carry the sequence of a
+// delta it holds beyond a gap). SQLite stays inside this unit.
 
 #include <cstdint>
 #include <functional>

@@ -1,8 +1,8 @@
 #pragma once
 // Records of the binary format (.dsgb): a file is a sequence of them.
 //
-//   "HMDG" | kind u8 (1 graph, 2 robot update, 3 graph delta) | version u16 | payload size varint | payload |
-//   CRC-32 u32 of everything from kind to the end of the payload
+//   "HMDG" | kind u8 (1 graph, 2 robot update, 3 graph delta) | version u16 | payload size varint |
+//   payload | CRC-32 u32 of everything from kind to the end of the payload
 //
 // The payloads' layout is binary_format.h's.
 
