@@ -15,7 +15,12 @@ packages=(
   libsqlite3-dev             # store: the station's journal
   libzstd-dev                # net: update payloads compressed on the wire
   iproute2 iptables          # tests: robots' links with faults, in network namespaces
+  libcpp-httplib-dev         # web: the viewer's HTTP server
+  chromium                   # tests: the viewer page in a real browser (headless)
 )
+# The viewer page is built with npm (web/package-lock.json): Node.js 20.19 or newer, as vite
+# needs; Debian's own nodejs only when the machine has none.
+if ! command -v node > /dev/null 2>&1; then packages+=(nodejs npm); fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -24,7 +29,18 @@ for p in "${packages[@]}"; do
   fi
 done
 
+check_node() {
+  local version
+  version=$(node -p 'process.versions.node' 2> /dev/null || echo 0)
+  if ! node -e 'const [a, b] = process.versions.node.split(".").map(Number); process.exit(a > 20 || (a === 20 && b >= 19) ? 0 : 1)' 2> /dev/null; then
+    echo "deps: Node.js $version is too old for the viewer page's build (vite needs 20.19 or newer);" \
+      "install a newer Node.js, or configure with -DHYDRA_MULTI_VIEWER_PAGE=OFF" >&2
+    exit 1
+  fi
+}
+
 if [ ${#missing[@]} -eq 0 ]; then
+  check_node
   echo "deps: all ${#packages[@]} packages present"
   exit 0
 fi
@@ -36,3 +52,4 @@ export DEBIAN_FRONTEND=noninteractive
 "${sudo_cmd[@]}" apt-get update -qq
 "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 echo "deps: installed ${#missing[@]} package(s)"
+check_node

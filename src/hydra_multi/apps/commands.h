@@ -107,6 +107,8 @@ struct RunOptions {
   bool quiet = false;
   bool print_summary = true;  ///< the summary on stdout
   bool bandwidth = true;      ///< write bandwidth.csv and bandwidth.svg (trials leave them out)
+  bool viewer = true;         ///< write OUT/viewer/ for `view` (trials leave it out)
+  std::string http;           ///< serve the viewer live on HOST:PORT (empty: no server)
 };
 int runRun(const RunOptions& options);
 /// A run's OUT/inputs.json: the method, the configuration (canonical) and the recipe of the
@@ -139,6 +141,7 @@ struct StationCommandOptions {
   std::string key;   ///< the station's secret key (with `keys`)
   std::string order = "arrival";  ///< arrival | time: the order the frontend takes updates in
   std::string publish;        ///< the fused graph's snapshot service (clone pattern); empty: none
+  std::string http;           ///< serve the viewer live on HOST:PORT (empty: no server)
   double order_hold_s = 5.0;  ///< with order time: the longest an update is held
   bool quiet = false;
 };
@@ -175,6 +178,14 @@ struct WatchOptions {
   bool quiet = false;
 };
 int runWatch(const WatchOptions& options);
+
+struct ViewOptions {
+  std::string dir;                      ///< a run's or station's output folder
+  std::string http = "127.0.0.1:7880";  ///< HOST:PORT (port 0: a free one)
+  std::string page;                     ///< the built page's folder (default: beside the binary)
+  bool quiet = false;
+};
+int runView(const ViewOptions& options);
 
 /// Prints "hydra-multi: error: <message>" on stderr and returns 1.
 int fail(const std::string& message);

@@ -209,6 +209,9 @@ int main(int argc, char** argv) {
   cli.inputFile(run_cmd, "--config", run.config,
                 "station configuration (JSON; README lists the keys)");
   run_cmd->add_flag("--quiet", run.quiet, "no progress lines on stderr");
+  run_cmd->add_option("--http", run.http,
+                      "serve the live viewer on HOST:PORT while the run lasts (port 0: a free one; "
+                      "the URL is printed)");
 
   StationCommandOptions station;
   CLI::App* station_cmd = app.add_subcommand(
@@ -258,6 +261,18 @@ int main(int argc, char** argv) {
       "--publish", station.publish,
       "publish the fused graph after every backend round (ZeroMQ clone pattern: "
       "snapshots on this endpoint, deltas on its port + 1; `watch` subscribes)");
+  station_cmd->add_option("--http", station.http,
+                          "serve the live viewer on HOST:PORT (port 0: a free one; the URL is "
+                          "printed and written to OUT/http)");
+  ViewOptions view;
+  CLI::App* view_cmd = app.add_subcommand(
+      "view", "Serve the viewer of a finished run (run's or station's output folder)");
+  cli.inputDirectory(view_cmd, "dir", view.dir, "the output folder")->required();
+  view_cmd->add_option("--http", view.http, "HOST:PORT to serve on (port 0: a free one)")
+      ->capture_default_str();
+  cli.inputDirectory(view_cmd, "--page", view.page,
+                     "the built viewer page (default: BUILD/web beside the binary)");
+  view_cmd->add_flag("--quiet", view.quiet, "no progress lines on stderr");
   WatchOptions watch;
   CLI::App* watch_cmd = app.add_subcommand(
       "watch", "Subscribe to a station's fused graph (station --publish): one line per update");
@@ -382,5 +397,6 @@ int main(int argc, char** argv) {
   if (*robot_cmd) return runRobotCommand(robot);
   if (*keygen_cmd) return runKeygen(keygen);
   if (*watch_cmd) return runWatch(watch);
+  if (*view_cmd) return runView(view);
   return 0;
 }

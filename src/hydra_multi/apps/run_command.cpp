@@ -20,6 +20,7 @@
 
 #include "hydra_multi/apps/commands.h"
 #include "hydra_multi/apps/loop_closure_csv.h"
+#include "hydra_multi/apps/run_viewer.h"
 #include "hydra_multi/apps/score_json.h"
 #include "hydra_multi/apps/station_outputs.h"
 #include "hydra_multi/dsg/io/graph_file.h"
@@ -96,7 +97,20 @@ int runRun(const RunOptions& o) {
               << (o.speed > 0 ? std::to_string(o.speed) : std::string("as fast as possible"))
               << ", " << (o.baseline.empty() ? "ablation " + o.ablation : "baseline " + o.baseline)
               << std::endl;
+  std::unique_ptr<RunViewer> viewer;
+  if (o.viewer || !o.http.empty()) {
+    auto opened = RunViewer::open(o.out, o.http, {}, o.quiet);
+    if (!opened) return fail(opened.error());
+    viewer = std::move(opened).value();
+    RunViewer* v = viewer.get();
+    options.on_round = [v](const RoundOutput& round) { v->onRound(round); };
+    if (!viewer->url().empty())
+      std::cerr << "station: the live viewer is at " << viewer->url() << std::endl;
+  }
   const StationResult result = runStation(streams.value(), options);
+  if (viewer) {
+    if (Status s = viewer->finish(result.graph); !s) return fail(s.message());
+  }
 
   const fs::path out(o.out);
   if (Status s = writeStationOutputs(o.out, result); !s) return fail(s.message());

@@ -14,10 +14,12 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "hydra_multi/apps/commands.h"
+#include "hydra_multi/apps/run_viewer.h"
 #include "hydra_multi/apps/station_outputs.h"
 #include "hydra_multi/apps/stop_signals.h"
 #include "hydra_multi/dsg/io/binary_format.h"
@@ -55,15 +57,38 @@ int runStationCommand(const StationCommandOptions& o) {
     auto created = net::GraphPublisher::create({o.publish, log});
     if (!created) return fail("--publish " + created.error());
     publisher = std::move(created).value();
-    net::GraphPublisher* p = publisher.get();
-    options.on_round = [p](const SceneGraph& graph, const BackendRoundReport& r, size_t round) {
-      p->publish(graph, round, r.robots, r.robots_aligned);
-    };
     std::ofstream(fs::path(o.out) / "publish") << publisher->endpoint() << "\n";
     std::cerr << "station: publishing the fused graph: snapshots on " << publisher->endpoint()
               << ", deltas on " << publisher->publishEndpoint() << " (hydra-multi watch --connect "
               << publisher->endpoint() << ")" << std::endl;
   }
+  // The viewer: its history always (`view OUT`), live with --http; the robots' links from the
+  // server once it exists (and not after it is gone).
+  std::mutex links_mutex;
+  const net::StationServer* link_source = nullptr;
+  auto opened = RunViewer::open(
+      o.out, o.http,
+      [&] {
+        std::map<RobotId, web::RobotLink> links;
+        std::lock_guard<std::mutex> lock(links_mutex);
+        if (link_source == nullptr) return links;
+        for (const auto& [robot, l] : link_source->links())
+          links[robot] = {l.connected && !l.said_bye, l.silent_s, l.bytes};
+        return links;
+      },
+      o.quiet);
+  if (!opened) return fail(opened.error());
+  const std::unique_ptr<RunViewer> viewer = std::move(opened).value();
+  if (!viewer->url().empty()) {
+    std::ofstream(fs::path(o.out) / "http") << viewer->url() << "\n";
+    std::cerr << "station: the live viewer is at " << viewer->url() << std::endl;
+  }
+  options.on_round = [p = publisher.get(), v = viewer.get()](const RoundOutput& out) {
+    if (p != nullptr)
+      p->publish(out.graph, out.timing.round, out.timing.report.robots,
+                 out.timing.report.robots_aligned);
+    v->onRound(out);
+  };
   Station station(options);
   net::StationServerOptions server_options;
   server_options.listen = o.listen;
@@ -112,6 +137,10 @@ int runStationCommand(const StationCommandOptions& o) {
   if (replayed + unreadable > 0)
     std::cerr << "station: resumed from " << journal_path << ": " << replayed << " updates replayed"
               << (unreadable ? ", " + std::to_string(unreadable) + " left out" : "") << std::endl;
+  {
+    std::lock_guard<std::mutex> lock(links_mutex);
+    link_source = server.value().get();
+  }
   const std::string endpoint = server.value()->endpoint();
   std::ofstream(fs::path(o.out) / "endpoint") << endpoint << "\n";
   std::string admitted;
@@ -134,6 +163,11 @@ int runStationCommand(const StationCommandOptions& o) {
   log("station: input closed; last backend round");
   const StationResult result = station.finish();
   if (publisher) publisher->close();  // the final graph is out; subscribers are told it is
+  if (Status s = viewer->finish(result.graph); !s) return fail(s.message());
+  {
+    std::lock_guard<std::mutex> lock(links_mutex);
+    link_source = nullptr;
+  }
   if (Status s = writeStationOutputs(o.out, result); !s) return fail(s.message());
   if (Status s = writeStationLoopClosures(o.out, result); !s) return fail(s.message());
   std::ofstream(fs::path(o.out) / "config.json") << config.value() << "\n";

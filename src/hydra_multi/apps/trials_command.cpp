@@ -180,6 +180,7 @@ int runTrials(const TrialsOptions& o) {
         run.quiet = true;
         run.print_summary = false;
         run.bandwidth = false;  // seconds per run that no table uses
+        run.viewer = false;     // likewise
         if (method == "full" || method == "no-ia" || method == "no-rec")
           run.ablation = method;
         else

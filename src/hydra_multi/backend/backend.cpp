@@ -187,6 +187,17 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     inliers_[{e.from, e.to}] = it->second;
     report.inter_robot_inliers += it->second;
   }
+  verdicts_.clear();
+  for (const BackendRobot* robot : included) {
+    if (robot->pose_graph == nullptr) continue;
+    for (const PoseGraphEdge& e : *robot->pose_graph) {
+      if (e.kind != PoseGraphEdge::Kind::kLoopClosure) continue;
+      const auto it = result.robust_inlier.find({e.from, e.to});
+      if (it != result.robust_inlier.end()) verdicts_.push_back({e.from, e.to, false, it->second});
+    }
+  }
+  for (const auto& [edge, kept] : inliers_)
+    verdicts_.push_back({edge.first, edge.second, true, kept});
 
   // 3. The backend graph.
   SceneGraph graph;
@@ -305,7 +316,8 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     std::map<NodeId, std::set<RobotId>> voters;
     for (const MergeCandidate* c : kept) {
       if (!graph.hasNode(c->target) || !graph.hasNode(c->source)) continue;
-      merges_.push_back({c->target, c->source, c->layer, side(c->target), side(c->source)});
+      merges_.push_back({c->target, c->source, c->layer, side(c->target), side(c->source),
+                         graph.getNode(c->target).position, graph.getNode(c->source).position});
       graph.mergeNodes(c->target, c->source);
       ++report.merges_accepted;
       if (c->layer != Layer::kObjects) continue;
@@ -315,7 +327,8 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     }
     if (options_.reconciliation.label_votes) {
       for (const LabelDispute& d : resolveLabelDisputes(graph, voters, options_.reconciliation)) {
-        merges_.push_back({d.winner, d.loser, Layer::kObjects, side(d.winner), side(d.loser)});
+        merges_.push_back({d.winner, d.loser, Layer::kObjects, side(d.winner), side(d.loser),
+                           graph.getNode(d.winner).position, graph.getNode(d.loser).position});
         graph.mergeNodes(d.winner, d.loser);
         ++report.label_merges;
       }

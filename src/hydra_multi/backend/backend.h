@@ -95,6 +95,20 @@ struct AcceptedMerge {
     int64_t keyframe_stamp_ns = -1;  ///< -1: the robot has no keyframe
     Eigen::Isometry3d T_robot_keyframe = Eigen::Isometry3d::Identity();
   } target_side, source_side;
+  /// Where the two copies were in the optimized map just before the merge (for display).
+  Eigen::Vector3d target_optimized = Eigen::Vector3d::Zero();
+  Eigen::Vector3d source_optimized = Eigen::Vector3d::Zero();
+};
+
+/// A loop closure of a round and GNC's verdict on it: intra-robot ones from the robots' pose
+/// graphs, inter-robot ones from the frontend's detector (keyframes in station ids).
+struct LoopClosureVerdict {
+  NodeId from, to;
+  bool inter_robot = false;
+  bool kept = false;
+  bool operator==(const LoopClosureVerdict& o) const {
+    return from == o.from && to == o.to && inter_robot == o.inter_robot && kept == o.kept;
+  }
 };
 
 /// One robot's AcceptedMerge sides from the frontend graph (station ids, the robot's frame).
@@ -136,6 +150,9 @@ class Backend {
   const std::map<std::pair<NodeId, NodeId>, bool>& loopClosureInliers() const { return inliers_; }
   /// The merges of the last round.
   const std::vector<AcceptedMerge>& merges() const { return merges_; }
+  /// Every loop closure of the aligned robots in the last round, intra- and inter-robot, with
+  /// GNC's verdict (those GNC did not see, of robots not aligned yet, are left out).
+  const std::vector<LoopClosureVerdict>& loopClosures() const { return verdicts_; }
 
  private:
   BackendOptions options_;
@@ -145,6 +162,7 @@ class Backend {
   std::map<RobotId, Eigen::Isometry3d> optimized_first_keyframes_;
   std::map<std::pair<NodeId, NodeId>, bool> inliers_;
   std::vector<AcceptedMerge> merges_;
+  std::vector<LoopClosureVerdict> verdicts_;
 };
 
 }  // namespace hydra_multi

@@ -1,6 +1,7 @@
 #include "hydra_multi/net/station_server.h"
 
 #include <chrono>
+#include <mutex>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -78,6 +79,7 @@ struct StationServer::Impl {
   void requestSnapshot(const std::string& id, Session& session, const std::string& why);
   void housekeeping();
   void status();        // one progress line per robot
+  void refreshLinks();  // the copy links() returns
   void authenticate();  // answers one ZAP request
   std::string who(const Session& s) const {
     return "connection " + std::to_string(s.number) +
@@ -96,7 +98,24 @@ struct StationServer::Impl {
   std::map<RobotId, Held> held;
   StationServerCounts counts;
   Clock::time_point last_status = Clock::now();
+  mutable std::mutex links_mutex;
+  std::map<RobotId, RobotLinkState> links;
 };
+
+void StationServer::Impl::refreshLinks() {
+  std::map<RobotId, RobotLinkState> now;
+  const double gone_s = options.heartbeat_s * options.missed_heartbeats;
+  for (const auto& [robot, c] : counts.robots) {
+    RobotLinkState& link = now[robot];
+    link.silent_s = secondsSince(held[robot].heard);
+    for (const auto& [id, session] : sessions)
+      link.connected |= session.welcomed && session.robot == robot && link.silent_s < gone_s;
+    link.said_bye = c.said_bye;
+    link.bytes = c.bytes;
+  }
+  std::lock_guard<std::mutex> lock(links_mutex);
+  links = std::move(now);
+}
 
 void StationServer::Impl::send(const std::string& id, Session& session, const Message& message) {
   std::vector<zmq::message_t> parts;
@@ -326,6 +345,7 @@ void StationServer::Impl::status() {
 }
 
 void StationServer::Impl::housekeeping() {
+  refreshLinks();
   if (options.status_s > 0.0 && secondsSince(last_status) >= options.status_s) {
     last_status = Clock::now();
     status();
@@ -385,6 +405,11 @@ StationServer::~StationServer() = default;
 
 const std::string& StationServer::endpoint() const { return impl_->endpoint; }
 const StationServerCounts& StationServer::counts() const { return impl_->counts; }
+
+std::map<RobotId, RobotLinkState> StationServer::links() const {
+  std::lock_guard<std::mutex> lock(impl_->links_mutex);
+  return impl_->links;
+}
 
 void StationServer::hold(RobotId robot, uint64_t epoch, uint64_t sequence, bool snapshot) {
   Held& h = impl_->held[robot];

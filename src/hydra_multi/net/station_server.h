@@ -71,6 +71,14 @@ struct StationServerCounts {
   size_t snapshots_requested = 0;
 };
 
+/// A robot's link as the station sees it now (for the viewer's status strip).
+struct RobotLinkState {
+  bool connected = false;  ///< a welcomed connection heard within the missed heartbeats
+  bool said_bye = false;
+  double silent_s = 0.0;  ///< since its last message
+  size_t bytes = 0;       ///< of every message from it
+};
+
 class StationServer {
  public:
   /// Binds the socket; an error names the endpoint.
@@ -84,6 +92,8 @@ class StationServer {
   /// have said BYE (and one heartbeat more, to answer a BYE sent again).
   void serve(const std::function<bool()>& stop, size_t expect_robots = 0);
   const StationServerCounts& counts() const;
+  /// Each robot's link, as of the serving thread's last pass (at most 100 ms old; any thread).
+  std::map<RobotId, RobotLinkState> links() const;
   /// Marks an update as held already (replayed from the journal before serving), so that its
   /// robot is welcomed past it and a resend of it is not handed on again; `epoch`: the robot
   /// process's that sent it (a HELLO of another epoch is a restarted robot).

@@ -28,13 +28,22 @@ struct Snapshot {
   std::vector<double> support;  ///< per inter-robot edge, for the alignment's consensus
   size_t after_update = 0;
   RobotId root;  ///< the robot whose frame should be global (preferredRoot)
+  std::map<RobotId, RobotProgress> progress;
 };
 
 Snapshot takeSnapshot(const SceneGraphProcessor& processor, const LoopClosureDetector& detector,
                       size_t after_update, RobotId root, const StationOptions& options) {
   Snapshot s;
   s.graph = processor.graph();
-  for (const RobotId r : processor.robots()) s.robots[r] = *processor.robot(r);
+  for (const RobotId r : processor.robots()) {
+    s.robots[r] = *processor.robot(r);
+    RobotProgress& p = s.progress[r];
+    p.robot_time_ns = s.robots[r].last_time_ns;
+    if (const UpdateSequencer* order = processor.order(r)) {
+      p.applied = order->counts().appliedTotal();
+      p.next_sequence = order->nextSequence();
+    }
+  }
   if (options.loop_closure_filter) {
     std::vector<DetectedLoopClosure> kept;
     for (const DetectedLoopClosure& c : detector.loopClosures()) {
@@ -154,7 +163,10 @@ void Station::Impl::runRound(const Snapshot& s) {
   timing.after_update = s.after_update;
   timing.report = backend.round(s.graph, robots, s.inter_robot, s.root, s.support);
   result.rounds.push_back(timing);
-  if (options.on_round) options.on_round(backend.graph(), timing.report, timing.round);
+  if (options.on_round) {
+    options.on_round({backend.graph(), timing, backend.loopClosures(), backend.merges(),
+                      backend.aligned(), s.progress});
+  }
   // Say whose frame the map is in when it is not the team's first robot's, and when it moves.
   const RobotId now = backend.alignment().root().value_or(s.root);
   if (!global && now != team_first)

@@ -25,6 +25,25 @@
 
 namespace hydra_multi {
 
+struct RoundTiming;
+
+/// A robot's place in the station's input when a backend round's snapshot was taken.
+struct RobotProgress {
+  size_t applied = 0;          ///< updates applied
+  uint64_t next_sequence = 0;  ///< the sequence it expects next
+  int64_t robot_time_ns = 0;   ///< the robot time of its latest update applied
+};
+
+/// What a backend round gives the station's outputs for others (the fused graph, the viewer).
+struct RoundOutput {
+  const SceneGraph& graph;  ///< the backend graph, in the global frame
+  const RoundTiming& timing;
+  const std::vector<LoopClosureVerdict>& loop_closures;
+  const std::vector<AcceptedMerge>& merges;
+  const std::map<RobotId, RobotFrameAlignment>& aligned;
+  const std::map<RobotId, RobotProgress>& progress;  ///< every robot heard of
+};
+
 struct StationOptions {
   double speed = 0.0;  ///< file replay: 1 real time, 10 ten times faster, 0 as fast as possible
   /// Above 0: updates put in robot-time order before the frontend, each held at most this long
@@ -37,10 +56,9 @@ struct StationOptions {
   LoopClosureOptions detector;
   BackendOptions backend;
   std::function<void(const std::string&)> log;  ///< progress and warnings
-  /// Called in the backend thread after every round with its graph (the station's outputs for
-  /// others: net/fused_graph.h publishes it); must not block for long.
-  std::function<void(const SceneGraph& graph, const BackendRoundReport& round, size_t index)>
-      on_round;
+  /// Called in the backend thread after every round (the station's outputs for others:
+  /// net/fused_graph.h publishes it, web/ shows it); must not block for long.
+  std::function<void(const RoundOutput&)> on_round;
   /// Evaluation only (the oracle-lc yardstick): the inter-robot loop closures the backend may
   /// see; the frontend's graph gives the keyframes' stamps. Empty: all of them.
   std::function<bool(const DetectedLoopClosure&, const SceneGraph&)> loop_closure_filter;
