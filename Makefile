@@ -9,7 +9,7 @@ DATA ?= ../shared/data
 
 CMAKE_FLAGS = -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DHYDRA_MULTI_WERROR=$(WERROR)
 
-.PHONY: all deps build test test-sanitize demo bench bench-robust bench-sim bench-frontend bench-backend bench-journal bench-bandwidth format clean
+.PHONY: all deps build test test-sanitize demo bench bench-robust bench-sim bench-frontend bench-backend bench-journal bench-bandwidth bench-viewer viewer-screenshot format clean
 
 all: build
 
@@ -67,6 +67,18 @@ bench-journal: build
 # (DATASET=DIR).
 bench-bandwidth: build
 	@$(BUILD_DIR)/bench/bench_bandwidth $(DATASET)
+
+# The viewer in headless chromium on a 10-robot run's graph (VIEWER_RUN=DIR; made when missing,
+# about 11 minutes): first frame, frames per second while orbiting, bytes, lag.
+VIEWER_RUN ?= out/viewer-bench/office-3-r10-run
+bench-viewer: build
+	@./scripts/bench_viewer.sh $(BUILD_DIR)/hydra-multi $(VIEWER_RUN)
+
+# The README's screenshot of the viewer (VIEWER_SHOT_RUN=DIR: a finished run's output folder).
+VIEWER_SHOT_RUN ?= out/demo/office-3-run
+viewer-screenshot: build
+	@node scripts/viewer_screenshot.mjs --bin $(BUILD_DIR)/hydra-multi --web web \
+	  --run $(VIEWER_SHOT_RUN) --out docs/viewer-office-3.png
 
 demo: build
 	@./scripts/demo.sh $(BUILD_DIR)/hydra-multi $(DATA) $(DEMO_OUT)

@@ -84,32 +84,24 @@ TEST_F(ViewerServerTest, ServesThePageTheRoundsTheViewsAndTheMesh) {
   feed_->setMesh(std::make_shared<const std::string>(encodeViewerMesh(f.graph.mesh(), 2)), 2);
   const auto server = start();
   httplib::Client c = client(*server);
-  auto page = c.Get("/");
-  ASSERT_TRUE(page);
-  EXPECT_EQ(page->status, 200);
-  EXPECT_NE(page->body.find("viewer"), std::string::npos);
-  auto rounds = c.Get("/api/rounds");
-  ASSERT_TRUE(rounds);
-  EXPECT_EQ(json::parse(rounds->body)["rounds"].size(), 2u);
-  auto view = c.Get("/api/view?seq=1");
-  ASSERT_TRUE(view);
-  EXPECT_EQ(view->status, 200);
-  EXPECT_EQ(json::parse(view->body)["round"], 0);
-  auto missing = c.Get("/api/view?seq=9");
-  ASSERT_TRUE(missing);
-  EXPECT_EQ(missing->status, 404);
-  EXPECT_NE(missing->body.find("no view 9"), std::string::npos);
-  auto bad = c.Get("/api/view?seq=x");
-  ASSERT_TRUE(bad);
-  EXPECT_EQ(bad->status, 400);
+  // The answer to GET path, which must have the status.
+  const auto get = [&c](const std::string& path, int status) {
+    httplib::Result res = c.Get(path);
+    EXPECT_TRUE(res) << path;
+    EXPECT_EQ(res ? res->status : 0, status) << path;
+    return res ? res->body : std::string();
+  };
+  EXPECT_NE(get("/", 200).find("viewer"), std::string::npos);
+  EXPECT_EQ(json::parse(get("/api/rounds", 200))["rounds"].size(), 2u);
+  EXPECT_EQ(json::parse(get("/api/view?seq=1", 200))["round"], 0);
+  EXPECT_NE(get("/api/view?seq=9", 404).find("no view 9"), std::string::npos);
+  get("/api/view?seq=x", 400);
+  EXPECT_TRUE(decodeViewerMesh(get("/api/mesh", 200)));
   auto mesh = c.Get("/api/mesh");
   ASSERT_TRUE(mesh);
-  EXPECT_EQ(mesh->status, 200);
   EXPECT_EQ(mesh->get_header_value("X-Mesh-Seq"), "2");
-  EXPECT_TRUE(decodeViewerMesh(mesh->body));
-  auto same = c.Get("/api/mesh?after=2");
-  ASSERT_TRUE(same);
-  EXPECT_EQ(same->status, 204);
+  get("/api/mesh?after=2", 204);
+  get("/api/mesh?after=1", 200);
 }
 
 TEST_F(ViewerServerTest, StreamGivesASnapshotThenDeltasThenTheEnd) {

@@ -7,26 +7,17 @@
 //
 //   node viewer_browser.mjs --bin BUILD/hydra-multi --web WEB_DIR --out DIR [--screenshot PNG]
 import { spawn, spawnSync } from "node:child_process";
-import { createRequire } from "node:module";
 import fs from "node:fs";
 import path from "node:path";
+import { launchChromium, parseArgs } from "./chromium.mjs";
 
-const args = Object.fromEntries(
-  process.argv.slice(2).reduce((pairs, a, i, all) => (a.startsWith("--") ? [...pairs, [a.slice(2), all[i + 1]]] : pairs), []),
-);
+const args = parseArgs(process.argv.slice(2));
 for (const needed of ["bin", "web", "out"]) {
   if (!args[needed]) {
     console.error(`usage: node viewer_browser.mjs --bin HYDRA_MULTI --web WEB_DIR --out DIR [--screenshot PNG]`);
     process.exit(2);
   }
 }
-const require = createRequire(path.join(path.resolve(args.web), "package.json"));
-const { chromium } = require("playwright-core");
-export const CHROMIUM_ARGS = [
-  "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--disable-quic", "--no-first-run",
-  "--disable-background-networking", "--disable-component-update", "--disable-sync", "--disable-extensions",
-  "--disable-default-apps", "--no-default-browser-check", "--metrics-recording-only",
-];
 
 const children = [];
 let browser = null;
@@ -95,9 +86,7 @@ try {
   const sim = spawnSync(args.bin, ["simulate", "--preset", "tiny", "--seed", "1", "--out", dataset, "--quiet"]);
   if (sim.status !== 0) throw new Error(`simulate failed: ${sim.stderr}`);
   userDir = fs.mkdtempSync(path.join(args.out, "chromium-"));
-  browser = await chromium.launchPersistentContext(userDir, {
-    executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium", headless: true, args: CHROMIUM_ARGS,
-  }).then((context) => ({ newPage: (o) => context.newPage(o).then(async (p) => { await p.setViewportSize(o.viewport); return p; }), close: () => context.close() }));
+  browser = await launchChromium(args.web, userDir);
 
   // 1. Live: the page follows a run while it runs.
   const runOut = path.join(args.out, "tiny-run");

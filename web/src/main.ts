@@ -108,7 +108,8 @@ function show(view: View): void {
   updateCounts(view);
   updateRobots();
   writeHash();
-  if (selected) inspect(selected, false);
+  if (selected) inspect(selected, focusPending === selected && !!scene.node(selected));
+  if (focusPending && scene.node(focusPending)) focusPending = null;
 }
 
 function writeHash(): void {
@@ -203,7 +204,10 @@ function inspect(id: string, focus: boolean): void {
     return a;
   };
   if (!row) {
-    add("", `not in round ${view.round}`);
+    const into = [...view.tables.merges.values()].find((m) => m[1] === id);
+    add("round", String(view.round));
+    if (into) add("merged into", link(String(into[0])));
+    else add("", "not in this round's graph");
     return;
   }
   const [, layer, robot, x, y, z, parent, attributes] = row;
@@ -216,7 +220,11 @@ function inspect(id: string, focus: boolean): void {
   children.slice(0, 40).forEach((c, i) => list.append(i ? ", " : "", link(c[0])));
   if (children.length > 40) list.append(` and ${children.length - 40} more`);
   add(`children (${children.length})`, children.length ? list : "none");
-  for (const [key, value] of Object.entries(attributes)) add(key, Array.isArray(value) ? value.join(", ") : String(value));
+  const names: Record<string, string> = {
+    box: "box (cm)", distance: "free space (cm)", t: "time (s)", k: "keyframe", q: "orientation (w, x, y, z)",
+    vertices: "mesh vertices",
+  };
+  for (const [key, value] of Object.entries(attributes)) add(names[key] ?? key, Array.isArray(value) ? value.join(", ") : String(value));
   const merged = [...view.tables.merges.values()].filter((m) => m[0] === id || m[1] === id);
   if (merged.length) add("merged", merged.map((m) => `${m[1]} into ${m[0]}`).join("; "));
 }
@@ -293,6 +301,7 @@ function setConnection(state: string, text: string): void {
 }
 
 const wanted = readHash();
+let focusPending: string | null = wanted.node ?? null;  // a linked node: looked at once drawn
 async function start(): Promise<void> {
   const rounds = await (await fetch("api/rounds")).json();
   summaries = rounds.rounds;
@@ -318,7 +327,10 @@ async function start(): Promise<void> {
     slider.max = String(live.seq);
     if (follow || !shown) show(live);
     else $("round-text").textContent = `round ${shown.round} (view ${shown.seq} of ${live.seq})`;
-    shownAt.push({ seq: delta.seq, receivedMs, drawnMs: performance.now(), publishedMs: delta.info.published_unix_ms ?? 0 });
+    const entry = { seq: delta.seq, receivedMs, drawnMs: 0, publishedMs: delta.info.published_unix_ms ?? 0 };
+    shownAt.push(entry);
+    scene.invalidate();
+    scene.afterFrame.push((drawnMs) => (entry.drawnMs = drawnMs));
     updateCharts();
     if (!ended && performance.now() - lastMeshFetch > 2000) void fetchMesh();
   };
@@ -345,8 +357,11 @@ async function start(): Promise<void> {
 (window as unknown as Record<string, unknown>).hmViewer = {
   stats: () => ({ ...scene.stats(), liveSeq: live.seq, ended, follow, shownSeq: shown?.seq ?? 0, meshSeq }),
   screenPositionOf: (id: string) => scene.screenPositionOf(id),
-  shownAt: () => shownAt,
+  /** Per view received: when it arrived and was drawn (performance.now()) and published (Unix ms). */
+  shownAt: () => ({ timeOrigin: performance.timeOrigin, views: shownAt }),
+  firstFullFrameMs: () => scene.firstFullFrameMs,
   inspected: () => selected,
+  mergedObject: () => [...(shown ?? live).tables.merges.values()].find((m) => m[2] === "objects" && scene.node(String(m[0])))?.[0] ?? null,
   renderInfo: () => {
     scene.setMoving(true);
     scene.renderer.render(scene.scene, scene.camera);

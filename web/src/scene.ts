@@ -78,6 +78,10 @@ export class SceneView {
   private fitted = false;
   frames = 0;
   syncFrames = false;
+  /** When the first frame with a view and its mesh was drawn (performance.now()), 0 until then. */
+  firstFullFrameMs = 0;
+  /** Called once right after the next frame is drawn, with its time. */
+  afterFrame: ((drawnMs: number) => void)[] = [];
   /** Milliseconds spent per part of the frames drawn (render calls, labels, waiting for the GPU). */
   timings = { render: 0, labels: 0, finish: 0 };
   private pixel = new Uint8Array(4);
@@ -136,6 +140,9 @@ export class SceneView {
         gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, this.pixel);
       }
       const t3 = performance.now();
+      if (this.firstFullFrameMs === 0 && this.view && this.meshData) this.firstFullFrameMs = t3;
+      const after = this.afterFrame.splice(0);
+      for (const f of after) f(t3);
       this.timings.render += t1 - t0;
       this.timings.labels += t2 - t1;
       this.timings.finish += t3 - t2;
@@ -464,7 +471,7 @@ export class SceneView {
       points.push(this.positionOf(x), this.positionOf(y));
       colours.push(grey, grey);
     }
-    if (points.length > 0) group.add(this.segments("edges", points, colours, 0.35));
+    if (points.length > 0) group.add(this.segments("edges", points, colours, 0.22));
   }
 
   private drawLoopClosures(view: View): void {

@@ -183,6 +183,8 @@ struct ViewOptions {
   std::string dir;                      ///< a run's or station's output folder
   std::string http = "127.0.0.1:7880";  ///< HOST:PORT (port 0: a free one)
   std::string page;                     ///< the built page's folder (default: beside the binary)
+  /// Above 0: the history is played as if live, one view every this many seconds.
+  double replay_s = 0.0;
   bool quiet = false;
 };
 int runView(const ViewOptions& options);

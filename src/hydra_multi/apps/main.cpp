@@ -272,6 +272,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   cli.inputDirectory(view_cmd, "--page", view.page,
                      "the built viewer page (default: BUILD/web beside the binary)");
+  cli.real(view_cmd, "--replay", view.replay_s,
+           "play the history as if live, one backend round every this many seconds", {0.0, 3600.0});
   view_cmd->add_flag("--quiet", view.quiet, "no progress lines on stderr");
   WatchOptions watch;
   CLI::App* watch_cmd = app.add_subcommand(

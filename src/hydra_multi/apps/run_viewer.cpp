@@ -35,7 +35,14 @@ Result<std::unique_ptr<RunViewer>> RunViewer::open(const std::string& out, const
 }
 
 void RunViewer::onRound(const RoundOutput& round) {
-  feed_->publish(web::viewOfRound(round, links_ ? links_() : std::map<RobotId, web::RobotLink>()));
+  // The round's end, so that the lag to the page can be told from it (info.round_end_unix_ms).
+  const int64_t end_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
+                             std::chrono::system_clock::now().time_since_epoch())
+                             .count();
+  web::ViewState view =
+      web::viewOfRound(round, links_ ? links_() : std::map<RobotId, web::RobotLink>());
+  view.info["round_end_unix_ms"] = end_ms;
+  feed_->publish(std::move(view));
   const auto now = std::chrono::steady_clock::now();
   if (server_ && now - last_mesh_ >= std::chrono::seconds(1)) {
     last_mesh_ = now;

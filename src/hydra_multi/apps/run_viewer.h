@@ -19,7 +19,8 @@ class RunViewer {
   /// the address is bad or taken, or the page is not built.
   static Result<std::unique_ptr<RunViewer>> open(const std::string& out, const std::string& http,
                                                  Links links, bool quiet);
-  /// A backend round (the station's backend thread).
+  /// A backend round (the station's backend thread): its view, stamped with the round's end
+  /// (info.round_end_unix_ms) before it is built.
   void onRound(const RoundOutput& round);
   /// The run is over: the final view and its mesh (OUT/viewer/mesh.bin).
   Status finish(const SceneGraph& graph);

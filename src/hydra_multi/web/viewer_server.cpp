@@ -242,6 +242,10 @@ Result<std::unique_ptr<ViewerServer>> ViewerServer::start(std::shared_ptr<Viewer
     return Error{"--http " + self->options.http + ": the server stopped as it started"};
   }
   if (self->options.log) self->options.log("viewer: " + impl->url);
+  const bool loopback = host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+  if (!loopback && self->options.log)
+    self->options.log("viewer: WARNING: serving on " + host +
+                      " without authentication or TLS: whoever reaches it sees the team's map");
   return std::unique_ptr<ViewerServer>(new ViewerServer(std::move(impl)));
 }
 
