@@ -95,6 +95,8 @@ try {
   const livePage = await openViewer(live.url);
   await livePage.waitForFunction(() => window.hmViewer && window.hmViewer.stats().seq > 0, null, { timeout: 30_000 });
   const first = await stats(livePage);
+  const streaming = await livePage.textContent("#robot-a");
+  check(/connected/.test(streaming) && /MB/.test(streaming), "the status strip shows a robot streaming and its bytes", streaming);
   await livePage.waitForFunction(() => window.hmViewer.stats().ended, null, { timeout: 60_000 });
   const last = await stats(livePage);
   check(last.seq > first.seq, "a live run updates the page while it runs", `view ${first.seq} then ${last.seq}`);
@@ -117,6 +119,8 @@ try {
   check(lc.interKept + lc.interRejected > 0, "inter-robot loop closures are drawn", JSON.stringify(lc));
   check((await page.textContent("#lc-inter")).includes(`${lc.interKept} kept`), "the loop-closure counts are shown");
   check((await page.locator(".robot").count()) === Object.keys(expected.agents).length, "one status per robot");
+  const status = await page.textContent("#robot-b");
+  check(/done/.test(status) && /applied/.test(status) && /MB/.test(status) && /aligned/.test(status), "a robot's status: done, sequence, applied, bytes, aligned", status);
 
   // Toggling a layer hides it.
   await page.click("#toggle-objects");

@@ -160,7 +160,8 @@ function updateRobots(): void {
     const silent = r.silent_s !== undefined ? r.silent_s + (follow && links[robot] ? (now - linksAt) / 1000 : 0) : undefined;
     let state: string;
     let css = "";
-    if (r.connected === undefined) state = ended ? "done" : "in-process replay";
+    if (r.done) state = "done";
+    else if (r.connected === undefined) state = ended ? "done" : "in-process replay";
     else if (r.connected && (silent ?? 0) < 30) ((state = "connected"), (css = "state-connected"));
     else ((state = `silent for ${Math.round(silent ?? 0)} s`), (css = "state-silent"));
     const div = document.createElement("div");

@@ -36,6 +36,7 @@ export interface RobotInfo {
   connected?: boolean;
   silent_s?: number;
   bytes?: number;
+  done?: boolean;
 }
 
 export interface View {

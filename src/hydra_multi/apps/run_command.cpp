@@ -23,6 +23,7 @@
 #include "hydra_multi/apps/run_viewer.h"
 #include "hydra_multi/apps/score_json.h"
 #include "hydra_multi/apps/station_outputs.h"
+#include "hydra_multi/dsg/io/binary_format.h"
 #include "hydra_multi/dsg/io/graph_file.h"
 #include "hydra_multi/eval/dataset_evaluation.h"
 #include "hydra_multi/eval/trajectory_error.h"
@@ -99,7 +100,30 @@ int runRun(const RunOptions& o) {
               << std::endl;
   std::unique_ptr<RunViewer> viewer;
   if (o.viewer || !o.http.empty()) {
-    auto opened = RunViewer::open(o.out, o.http, {}, o.quiet);
+    // The replay's links for the viewer's status: a robot's bytes are those of its records up to
+    // what the station has applied, and it is done once all are.
+    auto sent = std::make_shared<std::map<RobotId, std::map<uint64_t, uint64_t>>>();
+    for (const RobotUpdate& u : streams.value().updates)
+      (*sent)[u.robot][u.sequence] = io::encodeRobotUpdateBinary(u).size();
+    for (auto& [robot, bytes] : *sent) {
+      uint64_t total = 0;
+      for (auto& [sequence, b] : bytes) b = total += b;  // through this sequence
+    }
+    const RunViewer::Links links = [sent](const RoundOutput* round) {
+      std::map<RobotId, web::RobotLink> out;
+      if (round == nullptr) return out;
+      for (const auto& [robot, progress] : round->progress) {
+        const auto it = sent->find(robot);
+        if (it == sent->end() || it->second.empty()) continue;
+        const auto through = it->second.lower_bound(progress.next_sequence);
+        web::RobotLink& link = out[robot];
+        link.bytes = through == it->second.begin() ? 0 : std::prev(through)->second;
+        link.done = through == it->second.end();
+        link.connected = !link.done;
+      }
+      return out;
+    };
+    auto opened = RunViewer::open(o.out, o.http, links, o.quiet);
     if (!opened) return fail(opened.error());
     viewer = std::move(opened).value();
     RunViewer* v = viewer.get();

@@ -25,7 +25,15 @@ Result<std::unique_ptr<RunViewer>> RunViewer::open(const std::string& out, const
     web::ViewerServerOptions options;
     options.http = http;
     options.page = web::defaultPageFolder();
-    options.links = viewer->links_;
+    if (viewer->links_) {
+      RunViewer* v = viewer.get();
+      options.links = [v] {
+        std::map<RobotId, web::RobotLink> links = v->links_(nullptr);
+        if (!links.empty()) return links;
+        std::lock_guard<std::mutex> lock(v->links_mutex_);
+        return v->last_links_;
+      };
+    }
     if (!quiet) options.log = [](const std::string& line) { std::cerr << line << std::endl; };
     auto server = web::ViewerServer::start(viewer->feed_, options);
     if (!server) return Error{server.error()};
@@ -39,8 +47,13 @@ void RunViewer::onRound(const RoundOutput& round) {
   const int64_t end_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
                              std::chrono::system_clock::now().time_since_epoch())
                              .count();
-  web::ViewState view =
-      web::viewOfRound(round, links_ ? links_() : std::map<RobotId, web::RobotLink>());
+  std::map<RobotId, web::RobotLink> links;
+  if (links_) {
+    links = links_(&round);
+    std::lock_guard<std::mutex> lock(links_mutex_);
+    last_links_ = links;
+  }
+  web::ViewState view = web::viewOfRound(round, links);
   view.info["round_end_unix_ms"] = end_ms;
   feed_->publish(std::move(view));
   const auto now = std::chrono::steady_clock::now();

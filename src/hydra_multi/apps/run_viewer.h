@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <memory>
+#include <mutex>
 #include <string>
 
 #include "hydra_multi/web/viewer_server.h"
@@ -14,7 +15,9 @@ namespace hydra_multi::apps {
 
 class RunViewer {
  public:
-  using Links = std::function<std::map<RobotId, web::RobotLink>()>;
+  /// The robots' links at a round (the round is that of the view being made; nullptr for the
+  /// server's status events in between).
+  using Links = std::function<std::map<RobotId, web::RobotLink>(const RoundOutput* round)>;
   /// `http`: HOST:PORT to serve on (empty: no server). An error: the folder cannot be written,
   /// the address is bad or taken, or the page is not built.
   static Result<std::unique_ptr<RunViewer>> open(const std::string& out, const std::string& http,
@@ -34,6 +37,8 @@ class RunViewer {
   std::shared_ptr<web::ViewerFeed> feed_;
   std::unique_ptr<web::ViewerServer> server_;
   std::chrono::steady_clock::time_point last_mesh_{};
+  std::mutex links_mutex_;
+  std::map<RobotId, web::RobotLink> last_links_;  // of the last round, for status events
 };
 
 }  // namespace hydra_multi::apps

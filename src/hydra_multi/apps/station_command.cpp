@@ -68,12 +68,12 @@ int runStationCommand(const StationCommandOptions& o) {
   const net::StationServer* link_source = nullptr;
   auto opened = RunViewer::open(
       o.out, o.http,
-      [&] {
+      [&](const RoundOutput*) {
         std::map<RobotId, web::RobotLink> links;
         std::lock_guard<std::mutex> lock(links_mutex);
         if (link_source == nullptr) return links;
         for (const auto& [robot, l] : link_source->links())
-          links[robot] = {l.connected && !l.said_bye, l.silent_s, l.bytes};
+          links[robot] = {l.connected && !l.said_bye, l.silent_s, l.bytes, l.said_bye};
         return links;
       },
       o.quiet);

@@ -128,6 +128,7 @@ ViewState viewOfRound(const RoundOutput& round, const std::map<RobotId, RobotLin
       r["connected"] = l->second.connected;
       r["silent_s"] = rounded(l->second.silent_s, 0.1);
       r["bytes"] = l->second.bytes;
+      r["done"] = l->second.done;
     }
     view.robots[robot.str()] = std::move(r);
   }

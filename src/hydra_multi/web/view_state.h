@@ -16,11 +16,12 @@
 
 namespace hydra_multi::web {
 
-/// What a network input knows of a robot's link (the station only; `run` has none).
+/// What the input knows of a robot's link: the station's network, or `run`'s replay.
 struct RobotLink {
   bool connected = false;
   double silent_s = 0.0;  ///< since the station last heard of it
   uint64_t bytes = 0;     ///< received from it
+  bool done = false;      ///< it said BYE (the replay: its stream has ended)
 };
 
 struct ViewState {

@@ -90,7 +90,8 @@ struct Stream {
       for (const auto& [robot, link] : links()) {
         robots[robot.str()] = {{"connected", link.connected},
                                {"silent_s", std::round(link.silent_s * 10) / 10},
-                               {"bytes", link.bytes}};
+                               {"bytes", link.bytes},
+                               {"done", link.done}};
       }
       if (!write(sink, event("status", "", json{{"robots", robots}}.dump()))) return false;
     }
