@@ -335,7 +335,16 @@ async function start(): Promise<void> {
     updateCharts();
     if (!ended && performance.now() - lastMeshFetch > 2000) void fetchMesh();
   };
-  events.addEventListener("snapshot", onView);
+  events.addEventListener("snapshot", (e) => {
+    // A snapshot after a reconnect may come from a restarted station: its rounds start again.
+    void fetch("api/rounds")
+      .then((r) => r.json())
+      .then((rounds) => {
+        summaries = rounds.rounds;
+        updateCharts();
+      });
+    onView(e as MessageEvent);
+  });
   events.addEventListener("delta", onView);
   events.addEventListener("status", (e) => {
     links = JSON.parse((e as MessageEvent).data).robots;

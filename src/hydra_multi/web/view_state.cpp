@@ -1,7 +1,9 @@
 #include "hydra_multi/web/view_state.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <set>
 
 namespace hydra_multi::web {
 namespace {

@@ -1,5 +1,6 @@
 #include "hydra_multi/web/viewer_feed.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <random>
 
