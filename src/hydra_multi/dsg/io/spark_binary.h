@@ -1,0 +1,176 @@
+#pragma once
+// Spark-DSG's binary scene-graph layout (../shared/reference/spark-dsg-wire.md §1), format 1.1.3:
+// the file form (`.sparkdsg`: a header naming the project and version, then the graph) and the
+// wire form of its ZeroMQ messages (the graph alone). Every scalar is a tag byte and its
+// little-endian payload; arrays and strings are ARR32 with a count; nodes and edges are dynamic
+// arrays (00 ... 01) of records whose attributes follow their type's field order with no framing.
+//
+// SparkGraph holds everything a message carries, field by field, so that encoding a decoded graph
+// writes the same bytes. The decoder checks what Spark-DSG does not: every tag, every fixed
+// array's length, every count against the bytes left, type ids against the message's own names
+// table, names against the types it knows, finite numbers; an error names the byte offset and the
+// field, and nothing is read past the buffer.
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "hydra_multi/core/result.h"
+
+namespace hydra_multi::io::spark {
+
+struct Version {
+  uint8_t major = 1, minor = 1, patch = 3;
+  std::string str() const;
+  bool operator==(const Version& o) const {
+    return major == o.major && minor == o.minor && patch == o.patch;
+  }
+};
+/// The version this codec reads and writes (the fixtures' and Hydra main's).
+inline constexpr Version kVersion{1, 1, 3};
+
+struct LayerKey {
+  int64_t layer = 0;
+  uint32_t partition = 0;
+  bool operator==(const LayerKey& o) const { return layer == o.layer && partition == o.partition; }
+};
+
+/// A generic Eigen matrix as written (rows, cols, elements row-major, each with `tag`).
+struct Matrix {
+  int64_t rows = 0, cols = 0;
+  uint8_t tag = 0xca;  ///< the elements' scalar tag (FLOAT32 0xca, FLOAT64 0xcb, UINT32 0xce)
+  std::vector<double> values;
+  bool operator==(const Matrix& o) const {
+    return rows == o.rows && cols == o.cols && tag == o.tag && values == o.values;
+  }
+};
+
+struct BoundingBox {
+  int32_t type = 0;  ///< 0 invalid, 1 AABB, 2 OBB, 3 RAABB
+  std::array<float, 3> dimensions{};
+  std::array<float, 3> center{};
+  Matrix rotation;  ///< world_R_center, 3x3 FLOAT32
+  bool operator==(const BoundingBox& o) const {
+    return type == o.type && dimensions == o.dimensions && center == o.center &&
+           rotation == o.rotation;
+  }
+};
+
+struct NearestVertex {
+  std::array<int32_t, 3> block{};
+  std::array<double, 3> voxel{};
+  uint64_t vertex = 0;
+  std::optional<uint32_t> label;
+  bool operator==(const NearestVertex& o) const {
+    return block == o.block && voxel == o.voxel && vertex == o.vertex && label == o.label;
+  }
+};
+
+using Quaternion = std::array<double, 4>;  ///< w, x, y, z
+
+/// One node's or edge's attributes: the fields of its type and of the types it derives from
+/// (the others stay at their defaults and are not written).
+struct Attributes {
+  std::string type;  ///< a registered name, e.g. "PlaceNodeAttributes"
+  std::string metadata = "{}";
+  // NodeAttributes
+  std::array<double, 3> position{};
+  uint64_t last_update_time_ns = 0;
+  bool is_active = false, is_predicted = false;
+  // SemanticNodeAttributes
+  std::string name;
+  std::array<uint8_t, 4> color{0, 0, 0, 255};
+  BoundingBox bounding_box;
+  uint32_t semantic_label = 0xFFFFFFFF;
+  Matrix semantic_feature;
+  // ObjectNodeAttributes
+  std::vector<uint64_t> mesh_connections;
+  bool registered = false;
+  Quaternion world_R_object{1, 0, 0, 0};
+  // RoomNodeAttributes
+  std::vector<std::pair<std::string, double>> semantic_class_probabilities;
+  // PlaceNodeAttributes
+  double distance = 0.0;
+  uint32_t num_basis_points = 0;
+  std::vector<NearestVertex> voxblox_mesh_connections;
+  std::vector<uint64_t> pcl_mesh_connections;
+  std::vector<uint8_t> mesh_vertex_labels;
+  std::vector<uint64_t> deformation_connections;
+  bool real_place = true, active_frontier = false;
+  std::array<double, 3> frontier_scale{};
+  Quaternion orientation{1, 0, 0, 0};
+  bool need_cleanup = false;
+  uint64_t num_frontier_voxels = 0;
+  bool anti_frontier = false;
+  // Place2dNodeAttributes (1.1.3)
+  std::vector<std::array<double, 3>> boundary;
+  std::array<double, 3> ellipse_centroid{};
+  Matrix ellipse_matrix_compress, ellipse_matrix_expand;
+  std::vector<uint64_t> pcl_boundary_connections;
+  bool need_cleanup_splitting = false, has_active_mesh_indices = false;
+  // AgentNodeAttributes
+  int64_t timestamp_ns = 0;
+  Quaternion world_R_body{1, 0, 0, 0};
+  uint64_t external_key = 0;
+  Matrix dbow_ids, dbow_values;
+  // EdgeAttributes
+  bool weighted = false;
+  double weight = 1.0;
+};
+
+struct Node {
+  int64_t layer = 0;
+  uint64_t id = 0;  ///< bits 56-63 the prefix character, 0-55 the index
+  uint32_t partition = 0;
+  uint8_t type_id = 0;  ///< into SparkGraph::node_types
+  Attributes attributes;
+};
+
+struct Edge {
+  uint64_t source = 0, target = 0;
+  uint8_t type_id = 0;  ///< into SparkGraph::edge_types
+  Attributes attributes;
+};
+
+struct Mesh {
+  bool has_colors = false, has_stamps = false, has_labels = false, has_first_seen = false;
+  std::vector<std::array<float, 3>> points;
+  std::vector<std::array<uint8_t, 4>> colors;
+  std::vector<uint64_t> stamps;
+  std::vector<uint32_t> labels;
+  std::vector<uint64_t> first_seen_stamps;
+  std::vector<std::array<uint64_t, 3>> faces;
+};
+
+struct Graph {
+  std::vector<LayerKey> layer_keys;
+  std::vector<std::string> node_types, edge_types;
+  std::vector<std::pair<std::string, LayerKey>> layer_names;  ///< sorted by name
+  std::string metadata = "{}";
+  std::vector<Node> nodes;
+  std::vector<Edge> edges;
+  std::optional<Mesh> mesh;  ///< absent: the flag said no mesh (c2)
+};
+
+struct FileHeader {
+  std::string project = "main";
+  Version version = kVersion;
+};
+
+/// The wire form (a ZeroMQ message's bytes). `version`: the sender's Spark-DSG (the wire has
+/// none); only 1.1.3 is read.
+Result<Graph> decodeWire(std::string_view bytes, Version version = kVersion);
+/// The file form; `header`, when given, receives the file's.
+Result<Graph> decodeFile(std::string_view bytes, FileHeader* header = nullptr);
+
+std::string encodeWire(const Graph& graph);
+std::string encodeFile(const Graph& graph, const FileHeader& header = {});
+
+/// The node types this codec knows (it refuses a names table with others).
+const std::vector<std::string>& knownNodeTypes();
+
+}  // namespace hydra_multi::io::spark
