@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "hydra-multi: one 3D scene graph of a building from a team of robots (Hydra-Multi).\n"
       "File formats, chosen by extension: .json (ours), .spark.json (Spark-DSG), .dsgb (binary),\n"
+      ".sparkdsg (Spark-DSG binary, format 1.1.3),\n"
       ".ply (mesh, write only). A .json file in Spark-DSG's layout is recognised by its content."};
   app.set_version_flag("--version", std::string("hydra-multi ") + hydra_multi::kVersion);
   app.require_subcommand(1);
@@ -32,16 +33,18 @@ int main(int argc, char** argv) {
   CLI::App* info_cmd = app.add_subcommand(
       "info", "Counts per layer and per robot of a scene graph or update stream");
   cli.inputFile(info_cmd, "file", info.path,
-                "scene graph (.json, .spark.json, .dsgb) or update stream")
+                "scene graph (.json, .spark.json, .dsgb, .sparkdsg) or update stream")
       ->required();
   info_cmd->add_flag("--json", info.json, "print exactly one JSON object on stdout");
 
   ConvertOptions convert;
   CLI::App* convert_cmd =
       app.add_subcommand("convert", "Convert a scene graph between formats (by extension)");
-  cli.inputFile(convert_cmd, "input", convert.input, "input graph (.json, .spark.json, .dsgb)")
+  cli.inputFile(convert_cmd, "input", convert.input,
+                "input graph (.json, .spark.json, .dsgb, .sparkdsg)")
       ->required();
-  cli.outputFile(convert_cmd, "output", convert.output, "output (.json, .spark.json, .dsgb, .ply)")
+  cli.outputFile(convert_cmd, "output", convert.output,
+                 "output (.json, .spark.json, .dsgb, .sparkdsg, .ply)")
       ->required();
 
   PgoOptions pgo;

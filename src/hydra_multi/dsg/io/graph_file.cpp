@@ -9,6 +9,7 @@
 #include "hydra_multi/dsg/io/json_fields.h"
 #include "hydra_multi/dsg/io/json_format.h"
 #include "hydra_multi/dsg/io/ply.h"
+#include "hydra_multi/dsg/io/spark_graph.h"
 #include "hydra_multi/dsg/io/spark_json.h"
 
 namespace hydra_multi::io {
@@ -26,6 +27,7 @@ std::optional<FileFormat> formatFromPath(const std::string& path) {
   if (endsWith(path, ".json")) return FileFormat::kJson;
   if (endsWith(path, ".dsgb")) return FileFormat::kBinary;
   if (endsWith(path, ".ply")) return FileFormat::kPly;
+  if (endsWith(path, ".sparkdsg")) return FileFormat::kSparkBinary;
   return std::nullopt;
 }
 
@@ -39,6 +41,8 @@ const char* formatName(FileFormat format) {
       return "binary";
     case FileFormat::kPly:
       return "PLY";
+    case FileFormat::kSparkBinary:
+      return "Spark-DSG binary";
   }
   return "unknown";
 }
@@ -69,7 +73,7 @@ std::string describeUnread(const std::string& path,
 Result<SceneGraph> loadSceneGraph(const std::string& path,
                                   std::map<std::string, size_t>* unread_keys) {
   const auto format = formatFromPath(path);
-  if (!format) return Error{path + ": unknown extension (.json, .spark.json or .dsgb)"};
+  if (!format) return Error{path + ": unknown extension (.json, .spark.json, .dsgb or .sparkdsg)"};
   if (*format == FileFormat::kPly) {
     return Error{path + ": a PLY file holds only a mesh and cannot be read as a scene graph"};
   }
@@ -78,6 +82,8 @@ Result<SceneGraph> loadSceneGraph(const std::string& path,
   Result<SceneGraph> graph = Error{""};
   if (*format == FileFormat::kBinary) {
     graph = decodeSceneGraphBinary(bytes.value());
+  } else if (*format == FileFormat::kSparkBinary) {
+    graph = sceneGraphFromSparkFile(bytes.value());
   } else {
     auto root = parseJson(bytes.value(), formatName(*format));
     if (!root) return Error{path + ": " + root.error()};
@@ -93,7 +99,8 @@ Result<SceneGraph> loadSceneGraph(const std::string& path,
 
 Status saveSceneGraph(const std::string& path, const SceneGraph& graph) {
   const auto format = formatFromPath(path);
-  if (!format) return Error{path + ": unknown extension (.json, .spark.json, .dsgb or .ply)"};
+  if (!format)
+    return Error{path + ": unknown extension (.json, .spark.json, .dsgb, .sparkdsg or .ply)"};
   switch (*format) {
     case FileFormat::kJson:
       return writeFile(path, sceneGraphToJson(graph));
@@ -103,6 +110,8 @@ Status saveSceneGraph(const std::string& path, const SceneGraph& graph) {
       return writeFile(path, encodeSceneGraphBinary(graph));
     case FileFormat::kPly:
       return writeFile(path, meshToPly(graph.mesh()));
+    case FileFormat::kSparkBinary:
+      return writeFile(path, sceneGraphToSparkFile(graph));
   }
   return Error{path + ": unknown format"};
 }

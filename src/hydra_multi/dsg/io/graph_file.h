@@ -2,6 +2,7 @@
 // Reading and writing scene-graph files, the format chosen by the file name:
 //   .spark.json  Spark-DSG JSON             .json  our JSON (or Spark-DSG JSON, told by content)
 //   .dsgb        our binary                 .ply   the mesh only (write only)
+//   .sparkdsg    Spark-DSG's binary file (spark_graph.h)
 
 #include <map>
 #include <optional>
@@ -14,7 +15,7 @@
 
 namespace hydra_multi::io {
 
-enum class FileFormat { kJson, kSparkJson, kBinary, kPly };
+enum class FileFormat { kJson, kSparkJson, kBinary, kPly, kSparkBinary };
 
 /// The format a path names by its extension; nullopt for an unknown one.
 std::optional<FileFormat> formatFromPath(const std::string& path);

@@ -1,0 +1,248 @@
+#include "hydra_multi/dsg/io/spark_graph.h"
+
+#include <algorithm>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "hydra_multi/dsg/graph_delta.h"
+
+namespace hydra_multi::io {
+namespace {
+
+constexpr int64_t kAgentsAndObjects = 2, kPlaces = 3, kRooms = 4, kBuildings = 5;
+
+std::optional<Layer> layerOf(const spark::Node& n) {
+  switch (n.layer) {
+    case kAgentsAndObjects:
+      if (n.partition == 0) return Layer::kObjects;
+      if (n.attributes.type == "AgentNodeAttributes") return Layer::kAgents;
+      return std::nullopt;
+    case kPlaces:
+      if (n.partition == 0 && n.attributes.type == "PlaceNodeAttributes") return Layer::kPlaces;
+      return std::nullopt;
+    case kRooms:
+      return n.partition == 0 ? std::optional<Layer>(Layer::kRooms) : std::nullopt;
+    case kBuildings:
+      return n.partition == 0 ? std::optional<Layer>(Layer::kBuildings) : std::nullopt;
+    default:
+      return std::nullopt;
+  }
+}
+
+void readSemantic(const spark::Attributes& a, SemanticAttributes& s) {
+  s.label = a.semantic_label;
+  s.name = a.name;
+  s.color = {a.color[0], a.color[1], a.color[2]};
+  if (a.bounding_box.type != 0) {
+    const auto& d = a.bounding_box.dimensions;
+    const auto& c = a.bounding_box.center;
+    const Eigen::Vector3d half(0.5 * d[0], 0.5 * d[1], 0.5 * d[2]);
+    const Eigen::Vector3d centre(c[0], c[1], c[2]);
+    s.bounding_box = BoundingBox{centre - half, centre + half};
+  }
+}
+
+void writeSemantic(const SemanticAttributes& s, spark::Attributes& a) {
+  a.semantic_label = s.label;
+  a.name = s.name;
+  a.color = {s.color.r, s.color.g, s.color.b, 255};
+  a.bounding_box.rotation = {3, 3, 0xca, {1, 0, 0, 0, 1, 0, 0, 0, 1}};
+  if (s.bounding_box) {
+    const Eigen::Vector3d d = s.bounding_box->max - s.bounding_box->min;
+    const Eigen::Vector3d c = s.bounding_box->center();
+    a.bounding_box.type = 1;  // AABB
+    a.bounding_box.dimensions = {float(d.x()), float(d.y()), float(d.z())};
+    a.bounding_box.center = {float(c.x()), float(c.y()), float(c.z())};
+  }
+  a.semantic_feature = {0, 0, 0xca, {}};
+}
+
+std::string describe(const spark::Node& n) {
+  return "nodes of layer " + std::to_string(n.layer) + " partition " + std::to_string(n.partition) +
+         " (" + n.attributes.type + ")";
+}
+
+}  // namespace
+
+Result<SparkImport> sceneGraphFromSpark(const spark::Graph& spark) {
+  SparkImport out;
+  GraphDelta snapshot;
+  std::set<uint64_t> kept;
+  for (const spark::Node& n : spark.nodes) {
+    const std::optional<Layer> layer = layerOf(n);
+    if (!layer) {
+      ++out.left_out[describe(n)];
+      continue;
+    }
+    const spark::Attributes& a = n.attributes;
+    const NodeId id(n.id);
+    if (*layer == Layer::kAgents && uint32_t(static_cast<uint8_t>(id.category())) != n.partition)
+      return Error{"Spark-DSG graph: agent " + id.str() + " is in partition " +
+                   std::to_string(n.partition) + ", not its prefix's (" +
+                   std::to_string(static_cast<uint8_t>(id.category())) + ")"};
+    Node node = makeNode(id, *layer, {a.position[0], a.position[1], a.position[2]});
+    node.last_update_time_ns = a.last_update_time_ns > uint64_t(std::numeric_limits<int64_t>::max())
+                                   ? 0
+                                   : static_cast<int64_t>(a.last_update_time_ns);
+    node.is_active = a.is_active;
+    if (AgentAttributes* agent = node.find<AgentAttributes>()) {
+      const auto& q = a.world_R_body;
+      agent->orientation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+      agent->timestamp_ns = a.timestamp_ns;
+      agent->keyframe_id = a.external_key;
+    } else {
+      readSemantic(a, *node.semantic());
+    }
+    if (ObjectAttributes* object = node.find<ObjectAttributes>())
+      object->mesh_vertices = a.mesh_connections;
+    if (PlaceAttributes* place = node.find<PlaceAttributes>()) {
+      place->distance = a.distance;
+      place->mesh_vertices = a.pcl_mesh_connections;
+    }
+    kept.insert(n.id);
+    snapshot.nodes.push_back(std::move(node));
+  }
+  for (const spark::Edge& e : spark.edges) {
+    if (!kept.count(e.source) || !kept.count(e.target)) {
+      ++out.left_out["edges to nodes left out"];
+      continue;
+    }
+    snapshot.edges.push_back(
+        {NodeId(e.source), NodeId(e.target), {e.attributes.weight, e.attributes.weighted}});
+  }
+  if (spark.mesh) {
+    const spark::Mesh& m = *spark.mesh;
+    snapshot.mesh.vertices.resize(m.points.size());
+    for (size_t i = 0; i < m.points.size(); ++i) {
+      MeshVertex& v = snapshot.mesh.vertices[i];
+      v.position = {m.points[i][0], m.points[i][1], m.points[i][2]};
+      if (i < m.colors.size()) v.color = {m.colors[i][0], m.colors[i][1], m.colors[i][2]};
+      if (i < m.labels.size()) v.label = m.labels[i];
+      if (i < m.stamps.size())
+        v.time_ns = static_cast<int64_t>(
+            std::min<uint64_t>(m.stamps[i], uint64_t(std::numeric_limits<int64_t>::max())));
+    }
+    for (const auto& f : m.faces) {
+      snapshot.mesh.faces.push_back(
+          {static_cast<uint32_t>(f[0]), static_cast<uint32_t>(f[1]), static_cast<uint32_t>(f[2])});
+    }
+  }
+  auto graph = graphFromSnapshot(snapshot);
+  if (!graph) return Error{"Spark-DSG graph: " + graph.error()};
+  out.graph = std::move(graph).value();
+  return out;
+}
+
+spark::Graph sparkFromSceneGraph(const SceneGraph& graph, bool include_mesh) {
+  spark::Graph g;
+  g.node_types = spark::knownNodeTypes();
+  g.edge_types = {"EdgeAttributes"};
+  const auto typeId = [&g](const char* name) {
+    return static_cast<uint8_t>(std::find(g.node_types.begin(), g.node_types.end(), name) -
+                                g.node_types.begin());
+  };
+  std::set<std::pair<int64_t, uint32_t>> keys = {
+      {kAgentsAndObjects, 0}, {kPlaces, 0}, {kRooms, 0}, {kBuildings, 0}};
+  // Spark's order: the primary layers by layer id, then the partitions; nodes by id in each.
+  std::map<std::pair<uint32_t, int64_t>, std::vector<spark::Node>> layers;
+  for (const auto& [id, node] : graph.nodes()) {
+    spark::Node n;
+    n.id = id.value();
+    spark::Attributes& a = n.attributes;
+    a.position = {node.position.x(), node.position.y(), node.position.z()};
+    a.last_update_time_ns = static_cast<uint64_t>(std::max<int64_t>(0, node.last_update_time_ns));
+    a.is_active = node.is_active;
+    const std::optional<RobotId> robot = node.robot();
+    a.metadata = nlohmann::json{{"robot", robot ? robot->str() : ""}, {"id", id.str()}}.dump();
+    switch (node.layer()) {
+      case Layer::kAgents: {
+        const AgentAttributes& agent = *node.find<AgentAttributes>();
+        n.layer = kAgentsAndObjects;
+        n.partition = static_cast<uint8_t>(id.category());
+        a.type = "AgentNodeAttributes";
+        const Eigen::Quaterniond& q = agent.orientation;
+        a.world_R_body = {q.w(), q.x(), q.y(), q.z()};
+        a.timestamp_ns = agent.timestamp_ns;
+        a.external_key = agent.keyframe_id;
+        a.dbow_ids = {0, 1, 0xce, {}};
+        a.dbow_values = {0, 1, 0xca, {}};
+        break;
+      }
+      case Layer::kObjects:
+        n.layer = kAgentsAndObjects;
+        a.type = "ObjectNodeAttributes";
+        writeSemantic(node.find<ObjectAttributes>()->semantic, a);
+        a.mesh_connections = node.find<ObjectAttributes>()->mesh_vertices;
+        a.registered = true;
+        break;
+      case Layer::kPlaces: {
+        const PlaceAttributes& place = *node.find<PlaceAttributes>();
+        n.layer = kPlaces;
+        a.type = "PlaceNodeAttributes";
+        writeSemantic(place.semantic, a);
+        a.distance = place.distance;
+        a.pcl_mesh_connections = place.mesh_vertices;
+        break;
+      }
+      case Layer::kRooms:
+        n.layer = kRooms;
+        a.type = "RoomNodeAttributes";
+        writeSemantic(node.find<RoomAttributes>()->semantic, a);
+        break;
+      case Layer::kBuildings:
+        n.layer = kBuildings;
+        a.type = "SemanticNodeAttributes";
+        writeSemantic(node.find<BuildingAttributes>()->semantic, a);
+        break;
+    }
+    n.type_id = typeId(a.type.c_str());
+    keys.insert({n.layer, n.partition});
+    layers[{n.partition, n.layer}].push_back(std::move(n));
+  }
+  for (const auto& [layer, partition] : keys) g.layer_keys.push_back({layer, partition});
+  g.layer_names = {{"AGENTS", {kAgentsAndObjects, 0}},
+                   {"BUILDINGS", {kBuildings, 0}},
+                   {"OBJECTS", {kAgentsAndObjects, 0}},
+                   {"PLACES", {kPlaces, 0}},
+                   {"ROOMS", {kRooms, 0}}};
+  for (auto& [key, nodes] : layers) {
+    for (spark::Node& n : nodes) g.nodes.push_back(std::move(n));
+  }
+  for (const auto& [key, info] : graph.edges()) {
+    spark::Edge e;
+    e.source = key.first().value();
+    e.target = key.second().value();
+    e.attributes.type = "EdgeAttributes";
+    e.attributes.weight = info.weight;
+    e.attributes.weighted = info.weighted;
+    g.edges.push_back(std::move(e));
+  }
+  if (include_mesh && !graph.mesh().empty()) {
+    spark::Mesh m;
+    m.has_colors = m.has_stamps = m.has_labels = true;
+    for (const MeshVertex& v : graph.mesh().vertices) {
+      m.points.push_back({v.position.x(), v.position.y(), v.position.z()});
+      m.colors.push_back({v.color.r, v.color.g, v.color.b, 255});
+      m.stamps.push_back(static_cast<uint64_t>(std::max<int64_t>(0, v.time_ns)));
+      m.labels.push_back(v.label);
+    }
+    for (const MeshFace& f : graph.mesh().faces) m.faces.push_back({f[0], f[1], f[2]});
+    g.mesh = std::move(m);
+  }
+  return g;
+}
+
+Result<SceneGraph> sceneGraphFromSparkFile(const std::string& bytes) {
+  auto spark = spark::decodeFile(bytes);
+  if (!spark) return Error{spark.error()};
+  auto imported = sceneGraphFromSpark(spark.value());
+  if (!imported) return Error{imported.error()};
+  return std::move(imported).value().graph;
+}
+
+std::string sceneGraphToSparkFile(const SceneGraph& graph) {
+  return spark::encodeFile(sparkFromSceneGraph(graph));
+}
+
+}  // namespace hydra_multi::io

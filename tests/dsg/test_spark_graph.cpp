@@ -1,0 +1,125 @@
+#include "hydra_multi/dsg/io/spark_graph.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "hydra_multi/dsg/io/graph_file.h"
+#include "support/random_graphs.h"
+
+namespace hydra_multi::io {
+namespace {
+
+std::string fixture(const std::string& name) { return testing::dataDir() + "/spark/" + name; }
+
+SceneGraph load(const std::string& path) {
+  auto graph = loadSceneGraph(path);
+  EXPECT_TRUE(graph) << graph.error();
+  return graph ? std::move(graph).value() : SceneGraph();
+}
+
+TEST(SparkGraph, ApartmentFromSparkDsgsBinaryIsTheLegacyJsonsGraph) {
+  // The same real Hydra graph: the legacy JSON Hydra wrote, and Spark-DSG's binary of it.
+  const SceneGraph binary = load(fixture("apartment.sparkdsg"));
+  const SceneGraph legacy = load(testing::dataDir() + "/dsg/apartment_dsg.json");
+  ASSERT_EQ(binary.numNodes(), 296u);
+  ASSERT_EQ(binary.numNodes(), legacy.numNodes());
+  ASSERT_EQ(binary.numEdges(), legacy.numEdges());
+  for (const auto& [id, node] : legacy.nodes()) {
+    const Node* other = binary.findNode(id);
+    ASSERT_NE(other, nullptr) << id.str();
+    EXPECT_EQ(other->layer(), node.layer()) << id.str();
+    EXPECT_LT((other->position - node.position).norm(), 1e-9) << id.str();
+    if (const SemanticAttributes* s = node.semantic()) {
+      EXPECT_EQ(other->semantic()->label, s->label) << id.str();
+      EXPECT_EQ(other->semantic()->name, s->name) << id.str();
+      EXPECT_EQ(other->semantic()->bounding_box.has_value(), s->bounding_box.has_value());
+      if (s->bounding_box) {  // Spark-DSG keeps dimensions and centre in single precision
+        EXPECT_LT((other->semantic()->bounding_box->min - s->bounding_box->min).norm(), 1e-5);
+      }
+    }
+    if (const AgentAttributes* a = node.find<AgentAttributes>()) {
+      EXPECT_EQ(other->find<AgentAttributes>()->keyframe_id, a->keyframe_id);
+      EXPECT_EQ(other->find<AgentAttributes>()->timestamp_ns, a->timestamp_ns) << id.str();
+    }
+  }
+  for (const auto& [key, info] : legacy.edges())
+    EXPECT_TRUE(binary.hasEdge(key.first(), key.second()));
+}
+
+TEST(SparkGraph, OurGraphInSparksFormReadsBackTheSame) {
+  const SceneGraph graph = load(fixture("apartment_mesh.sparkdsg"));
+  ASSERT_EQ(graph.mesh().vertices.size(), 400u);
+  ASSERT_EQ(graph.mesh().faces.size(), 722u);
+  const spark::Graph exported = sparkFromSceneGraph(graph);
+  // Every layer key in use is listed; agents sit in their prefix's partition.
+  const std::vector<spark::LayerKey> keys = {{2, 0}, {2, 97}, {3, 0}, {4, 0}, {5, 0}};
+  EXPECT_EQ(exported.layer_keys, keys);
+  for (const spark::Node& n : exported.nodes) {
+    if (n.attributes.type == "AgentNodeAttributes") {
+      EXPECT_EQ(n.partition, 97u);
+    }
+    const nlohmann::json metadata = nlohmann::json::parse(n.attributes.metadata);
+    EXPECT_EQ(metadata["id"], NodeId(n.id).str());
+  }
+  auto decoded = spark::decodeFile(spark::encodeFile(exported));
+  ASSERT_TRUE(decoded) << decoded.error();
+  auto back = sceneGraphFromSpark(decoded.value());
+  ASSERT_TRUE(back) << back.error();
+  EXPECT_TRUE(back.value().left_out.empty());
+  EXPECT_TRUE(back.value().graph == graph) << "our graph changed through Spark-DSG's layout";
+  // Without the mesh, the flag says so.
+  EXPECT_FALSE(sparkFromSceneGraph(graph, false).mesh);
+}
+
+TEST(SparkGraph, StationIdsStayUniqueAndNameTheirRobot) {
+  SceneGraph graph;
+  for (uint8_t r = 0; r < 3; ++r) {
+    Node object = makeNode(NodeId::station('O', RobotId(r), 0), Layer::kObjects, {1.0 * r, 0, 0});
+    ASSERT_TRUE(graph.addOrUpdateNode(object));
+  }
+  const spark::Graph exported = sparkFromSceneGraph(graph);
+  std::set<uint64_t> ids;
+  for (const spark::Node& n : exported.nodes) {
+    ids.insert(n.id);
+    EXPECT_EQ(n.id >> 56, uint64_t('O'));
+    const nlohmann::json metadata = nlohmann::json::parse(n.attributes.metadata);
+    EXPECT_EQ(metadata["robot"], NodeId(n.id).sourceRobot()->str());
+  }
+  EXPECT_EQ(ids.size(), 3u);
+  auto back = sceneGraphFromSpark(exported);
+  ASSERT_TRUE(back) << back.error();
+  EXPECT_TRUE(back.value().graph == graph);
+}
+
+TEST(SparkGraph, WhatOurGraphHasNoPlaceForIsCountedAndAgentsMustSitInTheirPartition) {
+  auto decoded = spark::decodeFile(readFile(fixture("apartment.sparkdsg")).value());
+  ASSERT_TRUE(decoded) << decoded.error();
+  spark::Graph g = decoded.value();
+  // A 2D place (layer 3, partition 1) and an agent in another robot's partition.
+  spark::Node place2d = g.nodes.front();
+  place2d.layer = 3;
+  place2d.partition = 1;
+  place2d.id = (uint64_t('Q') << 56) | 1;
+  g.nodes.push_back(place2d);
+  auto imported = sceneGraphFromSpark(g);
+  ASSERT_TRUE(imported) << imported.error();
+  EXPECT_EQ(imported.value().graph.numNodes(), 296u);
+  ASSERT_EQ(imported.value().left_out.size(), 1u);
+  EXPECT_NE(imported.value().left_out.begin()->first.find("layer 3 partition 1"),
+            std::string::npos);
+  for (spark::Node& n : g.nodes) {
+    if (n.attributes.type == "AgentNodeAttributes") {
+      n.partition = 98;
+      break;
+    }
+  }
+  auto refused = sceneGraphFromSpark(g);
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.error().find("partition 98"), std::string::npos) << refused.error();
+}
+
+}  // namespace
+}  // namespace hydra_multi::io
