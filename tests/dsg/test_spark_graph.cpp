@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hydra_multi/dsg/io/graph_file.h"
+#include "hydra_multi/dsg/io/spark_json.h"
 #include "support/random_graphs.h"
 
 namespace hydra_multi::io {
@@ -119,6 +120,39 @@ TEST(SparkGraph, WhatOurGraphHasNoPlaceForIsCountedAndAgentsMustSitInTheirPartit
   auto refused = sceneGraphFromSpark(g);
   ASSERT_FALSE(refused);
   EXPECT_NE(refused.error().find("partition 98"), std::string::npos) << refused.error();
+}
+
+}  // namespace
+}  // namespace hydra_multi::io
+
+namespace hydra_multi::io {
+namespace {
+
+TEST(SparkGraph, CurrentJsonLayoutReadsAsTheBinaryOfTheSameGraph) {
+  // Spark-DSG 1.1.3 wrote each graph twice: as JSON (colour {r,g,b,a}, boxes with dimensions,
+  // partitions, the agents' stamps in their attributes, the mesh) and as its binary.
+  for (const std::string name : {"apartment", "apartment_mesh"}) {
+    const SceneGraph json = load(fixture(name + ".json"));
+    const SceneGraph binary = load(fixture(name + ".sparkdsg"));
+    EXPECT_EQ(json.numNodes(), 296u) << name;
+    EXPECT_TRUE(json == binary) << name << ": the JSON and the binary give different graphs";
+  }
+  EXPECT_EQ(load(fixture("apartment_mesh.json")).mesh().faces.size(), 722u);
+}
+
+TEST(SparkGraph, UnsetStampsAboveTwoToTheSixtyThreeAreRead) {
+  // Real Hydra files carry an unset last_update_time_ns of 2^64 - 1 (Spark-DSG's uint64).
+  const std::string text = R"({"nodes": [{"id": 5692549928996306944, "layer": 5, "partition": 0,
+    "attributes": {"type": "SemanticNodeAttributes", "position": [1, 2, 3],
+    "last_update_time_ns": 18446744073709551615, "is_active": true, "name": "building",
+    "color": {"r": 1, "g": 2, "b": 3, "a": 255}, "semantic_label": 0,
+    "bounding_box": {"type": "INVALID", "dimensions": [0, 0, 0], "world_P_center": [0, 0, 0],
+    "world_R_center": {"w": 1, "x": 0, "y": 0, "z": 0}}}}], "edges": []})";
+  auto graph = sceneGraphFromSparkJson(text);
+  ASSERT_TRUE(graph) << graph.error();
+  const Node& b = graph.value().nodes().begin()->second;
+  EXPECT_EQ(b.last_update_time_ns, 0);
+  EXPECT_EQ(b.semantic()->color, (Color{1, 2, 3}));
 }
 
 }  // namespace

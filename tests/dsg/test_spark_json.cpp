@@ -137,7 +137,14 @@ TEST(SparkJson, ErrorsNameTheNode) {
       R"J({"nodes": [{"id": 5, "layer": 2, "attributes": {"position": [0, 0, 0],
           "bounding_box": {"type": "OBB"}}}], "edges": []})J");
   ASSERT_FALSE(box.ok());
-  EXPECT_NE(box.error().find("bounding box type 'OBB'"), std::string::npos) << box.error();
+  EXPECT_NE(box.error().find("bounding box of type OBB without dimensions"), std::string::npos)
+      << box.error();
+  const auto kind = sceneGraphFromSparkJson(
+      R"J({"nodes": [{"id": 5, "layer": 2, "attributes": {"position": [0, 0, 0],
+          "bounding_box": {"type": "SPHERE"}}}], "edges": []})J");
+  ASSERT_FALSE(kind.ok());
+  EXPECT_NE(kind.error().find("bounding box type 'SPHERE' is not supported"), std::string::npos)
+      << kind.error();
 }
 
 // A .json file is read as ours or as Spark-DSG's by its content.

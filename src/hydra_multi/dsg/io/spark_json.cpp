@@ -1,5 +1,8 @@
 #include "hydra_multi/dsg/io/spark_json.h"
 
+#include <cmath>
+#include <limits>
+
 #include "hydra_multi/dsg/io/json_fields.h"
 #include "hydra_multi/dsg/io/json_format.h"
 
@@ -101,18 +104,39 @@ void readSemantic(const Json& a, SemanticAttributes& s) {
     s.label = toUint32(member(a, "semantic_label"), "semantic_label");
   if (hasMember(a, "name")) s.name = toString(member(a, "name"), "name");
   if (hasMember(a, "color")) {
+    // Legacy: [r, g, b]; Spark-DSG 1.0.3 and later: {r, g, b, a} (alpha dropped).
     const Json& c = member(a, "color");
-    if (!c.is_array() || c.size() < 3) throw DecodeError("key 'color': expected [r, g, b]");
-    s.color = {toUint8(c[0], "color"), toUint8(c[1], "color"), toUint8(c[2], "color")};
+    if (c.is_object()) {
+      s.color = {toUint8(member(c, "r"), "color.r"), toUint8(member(c, "g"), "color.g"),
+                 toUint8(member(c, "b"), "color.b")};
+    } else if (c.is_array() && c.size() >= 3) {
+      s.color = {toUint8(c[0], "color"), toUint8(c[1], "color"), toUint8(c[2], "color")};
+    } else {
+      throw DecodeError("key 'color': expected [r, g, b] or {r, g, b, a}");
+    }
   }
   if (hasMember(a, "bounding_box")) {
+    // Legacy: min and max; Spark-DSG 1.0.3 and later: dimensions about world_P_center (an
+    // axis-aligned box of them; a rotated box's rotation is not kept).
     const Json& box = member(a, "bounding_box");
     const std::string type = toString(member(box, "type"), "bounding_box.type");
-    if (type == "AABB") {
-      s.bounding_box = BoundingBox{toVector3d(member(box, "min"), "bounding_box.min"),
-                                   toVector3d(member(box, "max"), "bounding_box.max")};
+    if (type == "AABB" || type == "OBB" || type == "RAABB") {
+      if (hasMember(box, "dimensions")) {
+        const Eigen::Vector3d half =
+            0.5 * toVector3d(member(box, "dimensions"), "bounding_box.dimensions");
+        const Eigen::Vector3d centre =
+            toVector3d(member(box, "world_P_center"), "bounding_box.world_P_center");
+        s.bounding_box = BoundingBox{centre - half, centre + half};
+        if (hasMember(box, "world_R_center")) member(box, "world_R_center");
+      } else if (type == "AABB") {
+        s.bounding_box = BoundingBox{toVector3d(member(box, "min"), "bounding_box.min"),
+                                     toVector3d(member(box, "max"), "bounding_box.max")};
+      } else {
+        throw DecodeError("bounding box of type " + type + " without dimensions");
+      }
     } else if (type != "INVALID") {
-      throw DecodeError("bounding box type '" + type + "' is not supported (AABB or INVALID)");
+      throw DecodeError("bounding box type '" + type +
+                        "' is not supported (AABB, OBB, RAABB or INVALID)");
     }
   }
 }
@@ -126,10 +150,13 @@ Node readNode(const Json& j) {
   const NodeId id(toUint64(member(j, "id"), "id"));
   const int64_t layer_id = toInt64(member(j, "layer"), "layer");
   const Json& a = member(j, "attributes");
+  // Spark-DSG 1.1 names each node's partition; agents are in their prefix's, the rest in 0.
+  const uint64_t partition =
+      hasMember(j, "partition") ? toUint32(member(j, "partition"), "partition") : 0;
   Layer layer;
   switch (layer_id) {
     case kAgentsAndObjects:
-      layer = hasMember(j, "prefix") ? Layer::kAgents : Layer::kObjects;
+      layer = hasMember(j, "prefix") || partition != 0 ? Layer::kAgents : Layer::kObjects;
       break;
     case kPlaces:
       layer = Layer::kPlaces;
@@ -144,19 +171,31 @@ Node readNode(const Json& j) {
       throw DecodeError("node " + id.str() + ": layer " + std::to_string(layer_id) +
                         " is not supported (2 agents/objects, 3 places, 4 rooms, 5 buildings)");
   }
+  if (layer != Layer::kAgents && partition != 0) {
+    throw DecodeError("node " + id.str() + ": layer " + std::to_string(layer_id) + " partition " +
+                      std::to_string(partition) +
+                      " is not supported (only agents have partitions)");
+  }
   Node node = makeNode(id, layer, toVector3d(member(a, "position"), "position"));
   if (hasMember(a, "last_update_time_ns")) {
-    node.last_update_time_ns = toInt64(member(a, "last_update_time_ns"), "last_update_time_ns");
+    // Spark-DSG declares it uint64; an unset stamp above 2^63 - 1 is taken as 0.
+    const uint64_t stamp = toUint64(member(a, "last_update_time_ns"), "last_update_time_ns");
+    node.last_update_time_ns =
+        stamp > uint64_t(std::numeric_limits<int64_t>::max()) ? 0 : static_cast<int64_t>(stamp);
   }
   if (hasMember(a, "is_active")) node.is_active = toBool(member(a, "is_active"), "is_active");
   if (auto* agent = node.find<AgentAttributes>()) {
-    const uint8_t prefix = toUint8(member(j, "prefix"), "prefix");
+    const uint64_t prefix =
+        hasMember(j, "prefix") ? toUint8(member(j, "prefix"), "prefix") : partition;
     if (prefix != static_cast<uint8_t>(id.category())) {
-      throw DecodeError("node " + id.str() + ": prefix " + std::to_string(prefix) +
-                        " differs from the id's category");
+      throw DecodeError("node " + id.str() + ": " +
+                        (hasMember(j, "prefix") ? "prefix " : "partition ") +
+                        std::to_string(prefix) + " differs from the id's category");
     }
     agent->orientation = readQuaternion(member(a, "world_R_body"), "world_R_body");
-    agent->timestamp_ns = toInt64(member(j, "timestamp"), "timestamp");
+    // Legacy: the node's "timestamp"; Spark-DSG 1.1: the attributes' (ns).
+    agent->timestamp_ns = hasMember(a, "timestamp") ? toInt64(member(a, "timestamp"), "timestamp")
+                                                    : toInt64(member(j, "timestamp"), "timestamp");
     if (hasMember(a, "external_key")) {
       agent->keyframe_id = toUint64(member(a, "external_key"), "external_key");
     }
@@ -188,6 +227,46 @@ Edge readEdge(const Json& j) {
   return edge;
 }
 
+// Spark-DSG 1.1's mesh: points, optional colours ({r, g, b, a}), labels and last-seen stamps,
+// faces (first-seen stamps are not kept).
+MeshDelta readMesh(const Json& m) {
+  MeshDelta mesh;
+  mesh.vertices = readArray(member(m, "points"), "mesh.points", [](const Json& p) {
+    MeshVertex v;
+    v.position = toVector3f(p, "mesh.points");
+    return v;
+  });
+  const auto perVertex = [&](const char* key, const char* has, auto&& read) {
+    if (hasMember(m, has) && !toBool(member(m, has), has)) return;
+    const Json& values = toArray(member(m, key), key);
+    if (values.size() != mesh.vertices.size())
+      throw DecodeError(std::string("mesh.") + key + ": " + std::to_string(values.size()) +
+                        " values for " + std::to_string(mesh.vertices.size()) + " points");
+    for (size_t i = 0; i < values.size(); ++i) read(values[i], mesh.vertices[i]);
+  };
+  perVertex("colors", "has_colors", [](const Json& c, MeshVertex& v) {
+    v.color = {toUint8(member(c, "r"), "mesh.colors"), toUint8(member(c, "g"), "mesh.colors"),
+               toUint8(member(c, "b"), "mesh.colors")};
+  });
+  perVertex("labels", "has_labels",
+            [](const Json& l, MeshVertex& v) { v.label = toUint32(l, "mesh.labels"); });
+  perVertex("stamps", "has_timestamps", [](const Json& t, MeshVertex& v) {
+    const uint64_t stamp = toUint64(t, "mesh.stamps");
+    v.time_ns = stamp > uint64_t(std::numeric_limits<int64_t>::max()) ? 0 : int64_t(stamp);
+  });
+  if (hasMember(m, "first_seen_stamps")) member(m, "first_seen_stamps");
+  if (hasMember(m, "header")) member(m, "header");
+  mesh.faces = readArray(member(m, "faces"), "mesh.faces", [](const Json& f) {
+    const std::vector<double> i = toNumbers(f, "mesh.faces", 3);
+    for (const double x : i) {
+      if (x < 0 || x > double(std::numeric_limits<uint32_t>::max()) || x != std::floor(x))
+        throw DecodeError("mesh.faces: " + std::to_string(x) + " is not a vertex index");
+    }
+    return MeshFace{uint32_t(i[0]), uint32_t(i[1]), uint32_t(i[2])};
+  });
+  return mesh;
+}
+
 }  // namespace
 
 Result<SceneGraph> sceneGraphFromSparkJsonValue(const Json& root) {
@@ -195,6 +274,7 @@ Result<SceneGraph> sceneGraphFromSparkJsonValue(const Json& root) {
   try {
     snapshot.nodes = readArray(member(root, "nodes"), "nodes", readNode);
     snapshot.edges = readArray(member(root, "edges"), "edges", readEdge);
+    if (hasMember(root, "mesh")) snapshot.mesh = readMesh(member(root, "mesh"));
   } catch (const DecodeError& error) {
     return Error{std::string("Spark-DSG JSON: ") + error.what()};
   } catch (const nlohmann::json::exception& error) {
