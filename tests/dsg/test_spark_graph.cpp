@@ -81,7 +81,20 @@ TEST(SparkGraph, StationIdsStayUniqueAndNameTheirRobot) {
     Node object = makeNode(NodeId::station('O', RobotId(r), 0), Layer::kObjects, {1.0 * r, 0, 0});
     ASSERT_TRUE(graph.addOrUpdateNode(object));
   }
+  // Each robot's mesh vertices, in runs (Spark's mesh has no robot: the metadata says).
+  for (uint8_t r = 0; r < 3; ++r) {
+    for (int k = 0; k < 3; ++k) {
+      MeshVertex v;
+      v.position = {float(r), float(k), 0.f};
+      v.robot = RobotId(r);
+      graph.mesh().vertices.push_back(v);
+    }
+    graph.mesh().faces.push_back({uint32_t(3 * r), uint32_t(3 * r + 1), uint32_t(3 * r + 2)});
+  }
   const spark::Graph exported = sparkFromSceneGraph(graph);
+  EXPECT_NE(exported.metadata.find(R"("mesh_robots":[["a",0,3],["b",3,3],["c",6,3]])"),
+            std::string::npos)
+      << exported.metadata;
   std::set<uint64_t> ids;
   for (const spark::Node& n : exported.nodes) {
     ids.insert(n.id);

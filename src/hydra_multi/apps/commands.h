@@ -144,6 +144,8 @@ struct StationCommandOptions {
   std::string http;           ///< serve the viewer live on HOST:PORT (empty: no server)
   double order_hold_s = 5.0;  ///< with order time: the longest an update is held
   bool quiet = false;
+  std::string spark_publish;   ///< the fused graph in Spark-DSG's wire form on a PUB (empty: none)
+  bool spark_no_mesh = false;  ///< with spark_publish: leave the mesh out
 };
 int runStationCommand(const StationCommandOptions& options);
 
@@ -175,6 +177,11 @@ struct WatchOptions {
   std::string out;         ///< the latest graph goes here (any graph format); empty: none
   size_t count = 0;        ///< end after this many fused updates (0: at the station's final one)
   double timeout_s = 0.0;  ///< end after this many seconds (0: no limit)
+  /// A Spark-DSG publisher instead (a Hydra robot's ZmqSink, station --spark-publish): a SUB
+  /// that takes each whole graph in Spark-DSG's wire form.
+  bool spark = false;
+  double idle_s =
+      0.0;  ///< with spark: end once nothing came for this long after a graph (0: never)
   bool quiet = false;
 };
 int runWatch(const WatchOptions& options);

@@ -267,6 +267,15 @@ int main(int argc, char** argv) {
   station_cmd->add_option("--http", station.http,
                           "serve the live viewer on HOST:PORT (port 0: a free one; the URL is "
                           "printed and written to OUT/http)");
+  CLI::Option* spark_publish = station_cmd->add_option(
+      "--spark-publish", station.spark_publish,
+      "bind a PUB here and send the fused graph after every backend round in Spark-DSG's wire "
+      "form (format 1.1.3), as Spark-DSG's ZmqSender does: Hydra's tools and Spark-DSG's "
+      "ZmqReceiver read it");
+  station_cmd
+      ->add_flag("--spark-no-mesh", station.spark_no_mesh,
+                 "with --spark-publish: leave the mesh out")
+      ->needs(spark_publish);
   ViewOptions view;
   CLI::App* view_cmd = app.add_subcommand(
       "view", "Serve the viewer of a finished run (run's or station's output folder)");
@@ -291,6 +300,14 @@ int main(int argc, char** argv) {
   cli.real(watch_cmd, "--timeout", watch.timeout_s, "end after this many seconds (0: no limit)",
            {0.0, 31536000.0})
       ->capture_default_str();
+  CLI::Option* watch_spark = watch_cmd->add_flag(
+      "--spark", watch.spark,
+      "--connect names a Spark-DSG publisher (a Hydra robot's ZmqSink, station --spark-publish): "
+      "take its whole graphs in Spark-DSG's wire form");
+  cli.real(watch_cmd, "--idle", watch.idle_s,
+           "with --spark: end once nothing came for this many seconds after a graph",
+           {0.0, 86400.0})
+      ->needs(watch_spark);
   watch_cmd->add_flag("--quiet", watch.quiet, "no progress lines on stderr");
 
   KeygenOptions keygen;

@@ -26,6 +26,7 @@
 #include "hydra_multi/net/fused_graph.h"
 #include "hydra_multi/net/keys.h"
 #include "hydra_multi/net/protocol.h"
+#include "hydra_multi/net/spark_publisher.h"
 #include "hydra_multi/net/station_server.h"
 #include "hydra_multi/station/bandwidth.h"
 #include "hydra_multi/station/station_config.h"
@@ -83,10 +84,21 @@ int runStationCommand(const StationCommandOptions& o) {
     std::ofstream(fs::path(o.out) / "http") << viewer->url() << "\n";
     std::cerr << "station: the live viewer is at " << viewer->url() << std::endl;
   }
-  options.on_round = [p = publisher.get(), v = viewer.get()](const RoundOutput& out) {
+  std::unique_ptr<net::SparkPublisher> spark;
+  if (!o.spark_publish.empty()) {
+    auto created = net::SparkPublisher::create(o.spark_publish, !o.spark_no_mesh);
+    if (!created) return fail(created.error());
+    spark = std::move(created).value();
+    std::ofstream(fs::path(o.out) / "spark_publish") << spark->endpoint() << "\n";
+    std::cerr << "station: publishing the fused graph in Spark-DSG's wire form on "
+              << spark->endpoint() << (o.spark_no_mesh ? " (without the mesh)" : "") << std::endl;
+  }
+  options.on_round = [p = publisher.get(), v = viewer.get(),
+                      s = spark.get()](const RoundOutput& out) {
     if (p != nullptr)
       p->publish(out.graph, out.timing.round, out.timing.report.robots,
                  out.timing.report.robots_aligned);
+    if (s != nullptr) s->publish(out.graph);
     v->onRound(out);
   };
   Station station(options);
@@ -162,7 +174,8 @@ int runStationCommand(const StationCommandOptions& o) {
   }
   log("station: input closed; last backend round");
   const StationResult result = station.finish();
-  if (publisher) publisher->close();  // the final graph is out; subscribers are told it is
+  if (publisher) publisher->close();        // the final graph is out; subscribers are told it is
+  if (spark) spark->publish(result.graph);  // the final graph once more, as it was written
   if (Status s = viewer->finish(result.graph); !s) return fail(s.message());
   {
     std::lock_guard<std::mutex> lock(links_mutex);

@@ -127,6 +127,25 @@ Result<SparkImport> sceneGraphFromSpark(const spark::Graph& spark) {
       snapshot.mesh.faces.push_back(
           {static_cast<uint32_t>(f[0]), static_cast<uint32_t>(f[1]), static_cast<uint32_t>(f[2])});
     }
+    // Which robot mapped which vertices, where we wrote it (Spark's mesh has no such field).
+    const nlohmann::json metadata = nlohmann::json::parse(spark.metadata, nullptr, false);
+    if (metadata.is_object() && metadata.contains("hydra_multi") &&
+        metadata["hydra_multi"].is_object() && metadata["hydra_multi"].contains("mesh_robots")) {
+      for (const auto& range : metadata["hydra_multi"]["mesh_robots"]) {
+        const std::optional<RobotId> robot = range.size() == 3 && range[0].is_string()
+                                                 ? RobotId::parse(range[0].get<std::string>())
+                                                 : std::nullopt;
+        if (!robot || !range[1].is_number_unsigned() || !range[2].is_number_unsigned())
+          return Error{"Spark-DSG graph: metadata hydra_multi.mesh_robots: " + range.dump() +
+                       " is not [robot, first vertex, vertices]"};
+        const uint64_t first = range[1].get<uint64_t>(), n = range[2].get<uint64_t>();
+        if (first + n > snapshot.mesh.vertices.size())
+          return Error{"Spark-DSG graph: metadata hydra_multi.mesh_robots: " + range.dump() +
+                       " runs past the " + std::to_string(snapshot.mesh.vertices.size()) +
+                       " vertices"};
+        for (uint64_t i = first; i < first + n; ++i) snapshot.mesh.vertices[i].robot = *robot;
+      }
+    }
   }
   auto graph = graphFromSnapshot(snapshot);
   if (!graph) return Error{"Spark-DSG graph: " + graph.error()};
@@ -229,6 +248,17 @@ spark::Graph sparkFromSceneGraph(const SceneGraph& graph, bool include_mesh) {
     }
     for (const MeshFace& f : graph.mesh().faces) m.faces.push_back({f[0], f[1], f[2]});
     g.mesh = std::move(m);
+    // Spark's mesh has no robot per vertex: the runs of each robot's vertices go in the graph's
+    // metadata ({"hydra_multi": {"mesh_robots": [[robot, first vertex, vertices], ...]}}).
+    nlohmann::json runs = nlohmann::json::array();
+    const std::vector<MeshVertex>& vertices = graph.mesh().vertices;
+    for (size_t i = 0; i < vertices.size();) {
+      size_t j = i;
+      while (j < vertices.size() && vertices[j].robot == vertices[i].robot) ++j;
+      runs.push_back({vertices[i].robot.str(), i, j - i});
+      i = j;
+    }
+    g.metadata = nlohmann::json{{"hydra_multi", {{"mesh_robots", runs}}}}.dump();
   }
   return g;
 }

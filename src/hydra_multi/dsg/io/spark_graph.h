@@ -12,7 +12,9 @@
 // Our graph in Spark's form: node ids as they are (a station id keeps its robot in bits 48-54 of
 // the index, so ids stay unique across robots), each node's metadata naming its robot and readable
 // id ({"robot": "b", "id": "O(3)@b"}), agents in the partition of their prefix character, every
-// layer key listed, types from Spark-DSG's registered names.
+// layer key listed, types from Spark-DSG's registered names; Spark's mesh has no robot per vertex,
+// so the graph's metadata holds the runs of each robot's vertices
+// ({"hydra_multi": {"mesh_robots": [["a", 0, 5763], ["b", 5763, 5490]]}}), which the import reads.
 
 #include <map>
 #include <string>
