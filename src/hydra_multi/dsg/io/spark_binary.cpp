@@ -600,6 +600,14 @@ Graph readGraph(Reader& r) {
   return g;
 }
 
+// An attribute record: type id, metadata, the fields (readAttributes' inverse).
+void writeAttributes(Writer& w, const std::vector<std::string>& types, uint8_t type_id,
+                     const Attributes& a) {
+  w.u8(type_id);
+  w.string(a.metadata);
+  writeFields(w, a, writableKind(types, type_id, a));
+}
+
 void writeGraph(Writer& w, const Graph& g) {
   writeVector(w, g.layer_keys, [&](const LayerKey& k) { writeLayerKey(w, k); });
   writeVector(w, g.node_types, [&](const std::string& s) { w.string(s); });
@@ -615,9 +623,7 @@ void writeGraph(Writer& w, const Graph& g) {
     w.i64(n.layer);
     w.u64(n.id);
     w.u32(n.partition);
-    w.u8(n.type_id);
-    w.string(n.attributes.metadata);
-    writeFields(w, n.attributes, writableKind(g.node_types, n.type_id, n.attributes));
+    writeAttributes(w, g.node_types, n.type_id, n.attributes);
   }
   w.tag(kDynamicEnd);
   w.tag(kDynamicBegin);
@@ -625,9 +631,7 @@ void writeGraph(Writer& w, const Graph& g) {
     w.length(3);
     w.u64(e.source);
     w.u64(e.target);
-    w.u8(e.type_id);
-    w.string(e.attributes.metadata);
-    writeFields(w, e.attributes, writableKind(g.edge_types, e.type_id, e.attributes));
+    writeAttributes(w, g.edge_types, e.type_id, e.attributes);
   }
   w.tag(kDynamicEnd);
   w.boolean(g.mesh.has_value());
