@@ -168,6 +168,10 @@ struct RobotCommandOptions {
   std::optional<double> mission_start_s;
   bool full_resend = false;       ///< the whole map every update
   std::string compress = "zstd";  ///< zstd or none
+  /// Speak as a Hydra robot instead: bind a PUB at `bind` and publish the robot's whole graph in
+  /// Spark-DSG's wire form after every update, as Hydra's ZmqSink does (no station protocol).
+  bool spark = false;
+  std::string bind;
   bool quiet = false;
 };
 int runRobotCommand(const RobotCommandOptions& options);

@@ -323,8 +323,9 @@ int main(int argc, char** argv) {
   cli.inputDirectory(robot_cmd, "--dataset", robot.dataset, "dataset directory (from simulate)")
       ->required();
   robot_cmd->add_option("--robot", robot.robot, "robot letter (a, b, ...)")->required();
-  robot_cmd->add_option("--connect", robot.connect, "the station's endpoint (tcp://HOST:PORT)")
-      ->required();
+  CLI::Option* robot_connect =
+      robot_cmd->add_option("--connect", robot.connect,
+                            "the station's endpoint (tcp://HOST:PORT); required without --spark");
   cli.real(robot_cmd, "--speed", robot.speed,
            "robot time: 1 real time, 10 faster, 0 as fast as the station acknowledges",
            {0.0, 1000.0})
@@ -351,6 +352,13 @@ int main(int argc, char** argv) {
                    "zstd: compress payloads when the station takes it; none: never")
       ->check(CLI::IsMember({"zstd", "none"}))
       ->capture_default_str();
+  CLI::Option* robot_spark = robot_cmd->add_flag(
+      "--spark", robot.spark,
+      "speak as a Hydra robot: publish the robot's whole graph in Spark-DSG's wire form after "
+      "every update on a PUB bound at --bind, as Hydra's ZmqSink does; needs --speed above 0");
+  robot_cmd->add_option("--bind", robot.bind, "with --spark: the PUB's endpoint (tcp://HOST:PORT)")
+      ->needs(robot_spark);
+  robot_spark->excludes(robot_connect);
   robot_cmd->add_flag("--quiet", robot.quiet, "no progress lines on stderr");
 
   TrialsOptions trials;
@@ -398,6 +406,13 @@ int main(int argc, char** argv) {
     return cli.refuse("pgo", "--seed applies to --outliers only (the seed of the injection)");
   if (*station_cmd && order_hold->count() > 0 && station.order != "time")
     return cli.refuse("station", "--order-hold applies to --order time only");
+  if (*robot_cmd && !robot.spark && robot.connect.empty())
+    return cli.refuse("robot", "--connect is required (or --spark with --bind)");
+  if (*robot_cmd && robot.spark && robot.bind.empty())
+    return cli.refuse("robot", "--spark needs --bind tcp://HOST:PORT");
+  if (*robot_cmd && robot.spark && robot.speed <= 0.0)
+    return cli.refuse("robot",
+                      "--spark needs --speed above 0 (a PUB has no acknowledgements to pace it)");
   if (*robot_cmd && robot.mission_start_s && robot.speed <= 0.0)
     return cli.refuse("robot", "--mission-start needs --speed above 0 (robot time on the clock)");
   if (*trials_cmd) {

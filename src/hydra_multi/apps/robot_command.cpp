@@ -4,7 +4,10 @@
 // again after a reconnect; BYE once the station holds them all. `--mission-start T` puts the first
 // update at Unix time T: a robot process restarted mid-mission takes the updates due before it
 // started as its map (it made them while down) and sends them as a snapshot when the station
-// asks. `--full-resend` sends the whole map every update (the paper's robots).
+// asks. `--full-resend` sends the whole map every update (the paper's robots). `--spark --bind
+// ENDPOINT` speaks as a Hydra robot instead: a PUB that binds and publishes the robot's whole
+// graph (robot-side ids, as Hydra's, with its mesh) in Spark-DSG's wire form after every update, as
+// its robot time comes; no station protocol, no acknowledgements.
 
 #include <chrono>
 #include <iostream>
@@ -12,11 +15,54 @@
 #include <thread>
 
 #include "hydra_multi/apps/commands.h"
+#include "hydra_multi/apps/stop_signals.h"
+#include "hydra_multi/dsg/graph_delta.h"
 #include "hydra_multi/dsg/io/dataset_files.h"
+#include "hydra_multi/dsg/robot_stream.h"
 #include "hydra_multi/net/keys.h"
 #include "hydra_multi/net/robot_client.h"
+#include "hydra_multi/net/spark_publisher.h"
 
 namespace hydra_multi::apps {
+namespace {
+
+// A Hydra-speaking robot: the graph its updates have built, published after each as it is due.
+int publishAsHydra(const RobotCommandOptions& o, const std::vector<RobotUpdate>& updates) {
+  using Clock = std::chrono::steady_clock;
+  auto publisher = net::SparkPublisher::create(o.bind, true);
+  if (!publisher) return fail(publisher.error());
+  if (!o.quiet)
+    std::cerr << "robot " << o.robot << ": publishing its graph in Spark-DSG's wire form on "
+              << publisher.value()->endpoint() << std::endl;
+  // A SUB that has just connected misses what was sent before (ZeroMQ's slow joiner).
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  const StopSignals signals;
+  RobotStreamState state;
+  const Clock::time_point start = Clock::now();
+  const int64_t first_time = updates.front().time_ns;
+  for (const RobotUpdate& u : updates) {
+    const Clock::time_point due =
+        start +
+        std::chrono::nanoseconds(static_cast<int64_t>(double(u.time_ns - first_time) / o.speed));
+    while (Clock::now() < due && !StopSignals::requested())
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (StopSignals::requested()) break;
+    if (Status s = state.add(u); !s) return fail("robot " + o.robot + ": " + s.message());
+    auto graph = graphFromSnapshot(state.snapshot().graph);
+    if (!graph)
+      return fail("robot " + o.robot + ": update " + std::to_string(u.sequence) + ": " +
+                  graph.error());
+    publisher.value()->publish(graph.value());
+  }
+  // The last graph goes out before the PUB closes (it lingers 1 s).
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  std::cerr << "robot " << o.robot << ": published " << publisher.value()->published()
+            << " graphs of " << updates.size() << " updates (the last "
+            << publisher.value()->lastBytes() << " bytes)" << std::endl;
+  return 0;
+}
+
+}  // namespace
 
 int runRobotCommand(const RobotCommandOptions& o) {
   using Clock = std::chrono::steady_clock;
@@ -36,6 +82,7 @@ int runRobotCommand(const RobotCommandOptions& o) {
     std::cerr << "robot " << o.robot << ": skipped " << skipped << std::endl;
   const std::vector<RobotUpdate>& updates = records.value().updates;
   if (updates.empty()) return fail(entry->stream + ": no intact update to send");
+  if (o.spark) return publishAsHydra(o, updates);
 
   net::RobotClientOptions options;
   options.connect = o.connect;
