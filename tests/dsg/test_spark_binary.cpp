@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -123,6 +124,17 @@ TEST(SparkBinary, CutOrDamagedBuffersAreErrorsNamingTheByte) {
   EXPECT_NE(refused.error().find("node 0"), std::string::npos) << refused.error();
   EXPECT_NE(refused.error().find("node layer: expected INT64 (d3), found UINT32 (ce)"),
             std::string::npos)
+      << refused.error();
+  // A NaN where a number must be: refused by name (the first node's position follows its
+  // metadata "{}").
+  std::string nan = wire;
+  const size_t position = nan.find("\x7b\x7d\xcb", node);
+  ASSERT_NE(position, std::string::npos);
+  const double not_a_number = std::numeric_limits<double>::quiet_NaN();
+  std::memcpy(nan.data() + position + 3, &not_a_number, 8);
+  refused = decodeWire(nan);
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.error().find("position: not a finite number"), std::string::npos)
       << refused.error();
   // A huge count cannot make the decoder allocate: it is checked against the bytes left.
   std::string huge = wire;

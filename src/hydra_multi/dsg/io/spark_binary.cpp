@@ -74,18 +74,10 @@ class Reader {
   int32_t i32(const char* what) { return expect(kI32, what), static_cast<int32_t>(r_.u32(what)); }
   int64_t i64(const char* what) { return expect(kI64, what), static_cast<int64_t>(r_.u64(what)); }
   float f32(const char* what) {
-    expect(kF32, what);
-    const size_t at = r_.offset();
-    const float v = r_.f32(what);
-    if (!std::isfinite(v)) fail(at, what, "not a finite number");
-    return v;
+    return finite(kF32, what, [&] { return r_.f32(what); });
   }
   double f64(const char* what) {
-    expect(kF64, what);
-    const size_t at = r_.offset();
-    const double v = r_.f64(what);
-    if (!std::isfinite(v)) fail(at, what, "not a finite number");
-    return v;
+    return finite(kF64, what, [&] { return r_.f64(what); });
   }
   // An array's or string's length (ARR32, or STR32 which Spark-DSG reads but never writes).
   uint32_t length(const char* what) {
@@ -128,6 +120,16 @@ class Reader {
   }
 
  private:
+  // A tagged float, refused unless finite.
+  template <typename Read>
+  auto finite(uint8_t tag, const char* what, Read read) -> decltype(read()) {
+    expect(tag, what);
+    const size_t at = r_.offset();
+    const auto v = read();
+    if (!std::isfinite(v)) fail(at, what, "not a finite number");
+    return v;
+  }
+
   std::string_view bytes_;
   size_t base_;
   ByteReader r_;
