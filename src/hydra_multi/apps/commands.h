@@ -3,6 +3,7 @@
 // command line, prints to stdout (results) and stderr (errors, progress), and returns the exit
 // code: 0 success, 1 failure.
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -146,6 +147,11 @@ struct StationCommandOptions {
   bool quiet = false;
   std::string spark_publish;   ///< the fused graph in Spark-DSG's wire form on a PUB (empty: none)
   bool spark_no_mesh = false;  ///< with spark_publish: leave the mesh out
+  /// Hydra robots, NAME=tcp://HOST:PORT each: a SUB connects to the robot's ZmqSink and its
+  /// whole graphs become robot NAME's updates (net/hydra_robots.h).
+  std::vector<std::string> spark_robots;
+  /// A Hydra robot that sent a graph and then nothing for this long is done, as a BYE (0: never).
+  double spark_done_after_s = 0.0;
 };
 int runStationCommand(const StationCommandOptions& options);
 
@@ -172,8 +178,18 @@ struct RobotCommandOptions {
   /// Spark-DSG's wire form after every update, as Hydra's ZmqSink does (no station protocol).
   bool spark = false;
   std::string bind;
+  /// With spark: publish this graph file (any format `info` reads) every `every_s` seconds, as a
+  /// Hydra robot whose map no longer changes, `count` times (0: until SIGINT or SIGTERM).
+  std::string graph;
+  double every_s = 1.0;
+  size_t count = 0;
+  /// With spark: the graph as a robot whose odometric frame is turned by `move_yaw_deg` about z
+  /// and offset by `move_offset` would have mapped it ("X,Y,Z,YAW_DEG" on the command line).
+  std::optional<std::array<double, 4>> move;
   bool quiet = false;
 };
+/// Parses "X,Y,Z,YAW_DEG" (metres, degrees); an error says what is wrong.
+Result<std::array<double, 4>> parseMove(const std::string& text);
 int runRobotCommand(const RobotCommandOptions& options);
 
 struct WatchOptions {

@@ -10,6 +10,7 @@
 #include "hydra_multi/apps/commands.h"
 #include "hydra_multi/core/robot_id.h"
 #include "hydra_multi/core/version.h"
+#include "hydra_multi/net/hydra_robots.h"
 
 int main(int argc, char** argv) {
   using namespace hydra_multi::apps;
@@ -276,6 +277,22 @@ int main(int argc, char** argv) {
       ->add_flag("--spark-no-mesh", station.spark_no_mesh,
                  "with --spark-publish: leave the mesh out")
       ->needs(spark_publish);
+  CLI::Option* spark_robot =
+      station_cmd
+          ->add_option("--spark-robot", station.spark_robots,
+                       "a Hydra robot, NAME=tcp://HOST:PORT (repeatable): connect a SUB to its "
+                       "ZmqSink and take each whole graph it publishes (Spark-DSG's wire form, "
+                       "format 1.1.3) as robot NAME's update")
+          ->check([](const std::string& text) {
+            auto source = hydra_multi::net::parseHydraRobotSource(text);
+            return source ? std::string() : source.error();
+          });
+  cli.real(station_cmd, "--spark-done-after", station.spark_done_after_s,
+           "a Hydra robot that sent a graph and then nothing for this many seconds is done, as "
+           "if it said BYE (Hydra robots say none; 0: never)",
+           {0.0, 86400.0})
+      ->needs(spark_robot)
+      ->capture_default_str();
   ViewOptions view;
   CLI::App* view_cmd = app.add_subcommand(
       "view", "Serve the viewer of a finished run (run's or station's output folder)");
@@ -292,7 +309,8 @@ int main(int argc, char** argv) {
       "watch", "Subscribe to a station's fused graph (station --publish): one line per update");
   watch_cmd->add_option("--connect", watch.connect, "the station's --publish endpoint")->required();
   cli.outputFile(watch_cmd, "--out", watch.out,
-                 "write the latest graph here after every update (.json, .dsgb, .spark.json)");
+                 "write the latest graph here after every update (.json, .dsgb, .spark.json, "
+                 ".sparkdsg; with --spark a .sparkdsg holds the message as it came)");
   cli.integer(watch_cmd, "--count", watch.count,
               "end after this many fused updates (0: at the station's final graph)", size_t{0},
               size_t{1000000000})
@@ -320,9 +338,10 @@ int main(int argc, char** argv) {
   RobotCommandOptions robot;
   CLI::App* robot_cmd = app.add_subcommand(
       "robot", "Play one robot of a recorded dataset as a live robot streaming to a station");
-  cli.inputDirectory(robot_cmd, "--dataset", robot.dataset, "dataset directory (from simulate)")
-      ->required();
-  robot_cmd->add_option("--robot", robot.robot, "robot letter (a, b, ...)")->required();
+  CLI::Option* robot_dataset = cli.inputDirectory(
+      robot_cmd, "--dataset", robot.dataset, "dataset directory (from simulate); required but with --graph");
+  CLI::Option* robot_name =
+      robot_cmd->add_option("--robot", robot.robot, "robot letter (a, b, ...); required but with --graph");
   CLI::Option* robot_connect =
       robot_cmd->add_option("--connect", robot.connect,
                             "the station's endpoint (tcp://HOST:PORT); required without --spark");
@@ -359,6 +378,31 @@ int main(int argc, char** argv) {
   robot_cmd->add_option("--bind", robot.bind, "with --spark: the PUB's endpoint (tcp://HOST:PORT)")
       ->needs(robot_spark);
   robot_spark->excludes(robot_connect);
+  CLI::Option* robot_graph =
+      cli.inputFile(robot_cmd, "--graph", robot.graph,
+                    "with --spark: publish this graph file (any format info reads) every --every "
+                    "s instead of a dataset's robot, as a Hydra robot whose map no longer changes");
+  robot_graph->needs(robot_spark)->excludes(robot_dataset)->excludes(robot_name);
+  cli.real(robot_cmd, "--every", robot.every_s, "with --graph: seconds between graphs",
+           {0.001, 3600.0})
+      ->needs(robot_graph)
+      ->capture_default_str();
+  cli.integer(robot_cmd, "--count", robot.count,
+              "with --graph: publish this many graphs, then stop (0: until SIGINT or SIGTERM)",
+              size_t{0}, size_t{1000000})
+      ->needs(robot_graph)
+      ->capture_default_str();
+  std::string move_text;
+  robot_cmd
+      ->add_option("--move", move_text,
+                   "with --spark: X,Y,Z,YAW_DEG: publish the graph as a robot whose odometric "
+                   "frame is turned by YAW_DEG about z and offset by X,Y,Z m would have mapped it "
+                   "(its true frame unknown to the station)")
+      ->check([](const std::string& text) {
+        auto move = hydra_multi::apps::parseMove(text);
+        return move ? std::string() : move.error();
+      })
+      ->needs(robot_spark);
   robot_cmd->add_flag("--quiet", robot.quiet, "no progress lines on stderr");
 
   TrialsOptions trials;
@@ -406,11 +450,14 @@ int main(int argc, char** argv) {
     return cli.refuse("pgo", "--seed applies to --outliers only (the seed of the injection)");
   if (*station_cmd && order_hold->count() > 0 && station.order != "time")
     return cli.refuse("station", "--order-hold applies to --order time only");
+  if (*robot_cmd && robot.graph.empty() && (robot.dataset.empty() || robot.robot.empty()))
+    return cli.refuse("robot", "--dataset and --robot are required (but with --spark --graph)");
+  if (*robot_cmd && !move_text.empty()) robot.move = hydra_multi::apps::parseMove(move_text).value();
   if (*robot_cmd && !robot.spark && robot.connect.empty())
     return cli.refuse("robot", "--connect is required (or --spark with --bind)");
   if (*robot_cmd && robot.spark && robot.bind.empty())
     return cli.refuse("robot", "--spark needs --bind tcp://HOST:PORT");
-  if (*robot_cmd && robot.spark && robot.speed <= 0.0)
+  if (*robot_cmd && robot.spark && robot.graph.empty() && robot.speed <= 0.0)
     return cli.refuse("robot",
                       "--spark needs --speed above 0 (a PUB has no acknowledgements to pace it)");
   if (*robot_cmd && robot.mission_start_s && robot.speed <= 0.0)

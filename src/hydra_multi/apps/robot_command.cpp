@@ -7,9 +7,14 @@
 // asks. `--full-resend` sends the whole map every update (the paper's robots). `--spark --bind
 // ENDPOINT` speaks as a Hydra robot instead: a PUB that binds and publishes the robot's whole
 // graph (robot-side ids, as Hydra's, with its mesh) in Spark-DSG's wire form after every update, as
-// its robot time comes; no station protocol, no acknowledgements.
+// its robot time comes; no station protocol, no acknowledgements. Its agents carry their bags of
+// words (dbow_ids, dbow_values) as Hydra's do; keypoints, the pose graph's edges and the
+// deformation graph are not sent, as Hydra sends none. `--graph FILE` publishes one graph file
+// every `--every` s instead; `--move X,Y,Z,YAW_DEG` publishes the graph as a robot whose odometric
+// frame lies elsewhere would have mapped it.
 
 #include <chrono>
+#include <cmath>
 #include <iostream>
 #include <sstream>
 #include <thread>
@@ -18,13 +23,80 @@
 #include "hydra_multi/apps/stop_signals.h"
 #include "hydra_multi/dsg/graph_delta.h"
 #include "hydra_multi/dsg/io/dataset_files.h"
+#include "hydra_multi/dsg/io/graph_file.h"
+#include "hydra_multi/dsg/io/spark_graph.h"
 #include "hydra_multi/dsg/robot_stream.h"
 #include "hydra_multi/net/keys.h"
 #include "hydra_multi/net/robot_client.h"
 #include "hydra_multi/net/spark_publisher.h"
+#include "hydra_multi/station/hydra_graph_input.h"
 
 namespace hydra_multi::apps {
+
+Result<std::array<double, 4>> parseMove(const std::string& text) {
+  std::array<double, 4> values{};
+  std::stringstream in(text);
+  std::string item;
+  size_t n = 0;
+  while (std::getline(in, item, ',')) {
+    if (n == 4) return Error{"'" + text + "' has more than X,Y,Z,YAW_DEG"};
+    size_t used = 0;
+    try {
+      values[n] = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || !std::isfinite(values[n]))
+      return Error{"'" + item + "' in '" + text + "' is not a finite number (X,Y,Z,YAW_DEG)"};
+    ++n;
+  }
+  if (n != 4) return Error{"'" + text + "' is not X,Y,Z,YAW_DEG (four numbers)"};
+  return values;
+}
+
 namespace {
+
+void move(io::spark::Graph& graph, const std::optional<std::array<double, 4>>& by) {
+  if (!by) return;
+  io::moveSparkGraph(graph, {(*by)[0], (*by)[1], (*by)[2]}, (*by)[3] * M_PI / 180.0);
+}
+
+// A Hydra robot whose map no longer changes: one graph file, published every `every_s`.
+int publishGraphFile(const RobotCommandOptions& o) {
+  io::spark::Graph graph;
+  if (io::formatFromPath(o.graph) == io::FileFormat::kSparkBinary) {
+    auto bytes = io::readFile(o.graph);
+    if (!bytes) return fail(bytes.error());
+    auto decoded = io::spark::decodeFile(bytes.value());
+    if (!decoded) return fail(o.graph + ": " + decoded.error());
+    graph = std::move(decoded).value();
+  } else {
+    auto loaded = io::loadSceneGraph(o.graph);
+    if (!loaded) return fail(loaded.error());
+    graph = io::sparkFromSceneGraph(loaded.value(), true);
+  }
+  move(graph, o.move);
+  auto publisher = net::SparkPublisher::create(o.bind, true);
+  if (!publisher) return fail(publisher.error());
+  if (!o.quiet)
+    std::cerr << "robot: publishing " << o.graph << " in Spark-DSG's wire form on "
+              << publisher.value()->endpoint() << " every " << o.every_s << " s" << std::endl;
+  const StopSignals signals;
+  // A SUB that has just connected misses what was sent before (ZeroMQ's slow joiner).
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  const auto period = std::chrono::duration<double>(o.every_s);
+  auto due = std::chrono::steady_clock::now();
+  for (size_t sent = 0; (o.count == 0 || sent < o.count) && !StopSignals::requested(); ++sent) {
+    publisher.value()->publish(graph);
+    due += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period);
+    while (std::chrono::steady_clock::now() < due && !StopSignals::requested())
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  std::cerr << "robot: published " << o.graph << " " << publisher.value()->published()
+            << " times (" << publisher.value()->lastBytes() << " bytes each)" << std::endl;
+  return 0;
+}
 
 // A Hydra-speaking robot: the graph its updates have built, published after each as it is due.
 int publishAsHydra(const RobotCommandOptions& o, const std::vector<RobotUpdate>& updates) {
@@ -48,11 +120,12 @@ int publishAsHydra(const RobotCommandOptions& o, const std::vector<RobotUpdate>&
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     if (StopSignals::requested()) break;
     if (Status s = state.add(u); !s) return fail("robot " + o.robot + ": " + s.message());
-    auto graph = graphFromSnapshot(state.snapshot().graph);
+    auto graph = hydraGraphOfMap(state.snapshot());
     if (!graph)
       return fail("robot " + o.robot + ": update " + std::to_string(u.sequence) + ": " +
                   graph.error());
-    publisher.value()->publish(graph.value());
+    move(graph.value(), o.move);
+    publisher.value()->publish(std::move(graph).value());
   }
   // The last graph goes out before the PUB closes (it lingers 1 s).
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
@@ -66,6 +139,7 @@ int publishAsHydra(const RobotCommandOptions& o, const std::vector<RobotUpdate>&
 
 int runRobotCommand(const RobotCommandOptions& o) {
   using Clock = std::chrono::steady_clock;
+  if (!o.graph.empty()) return publishGraphFile(o);
   auto manifest = io::readDatasetManifest(o.dataset);
   if (!manifest) return fail(manifest.error());
   const io::DatasetRobot* entry = nullptr;

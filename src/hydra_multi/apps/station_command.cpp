@@ -8,6 +8,10 @@
 // Every update it accepts goes to DIR/journal.sqlite (store/journal.h) before it is acknowledged;
 // started on a DIR that holds a journal, the station first replays it, so that a station that was
 // killed loses nothing it acknowledged and its robots resend only the rest.
+// `--spark-robot NAME=tcp://HOST:PORT` adds Hydra robots (net/hydra_robots.h): their whole graphs
+// become robot NAME's updates, journaled as the others (epoch 0, the graph's bytes as the
+// message's); after a restart each one's next graph goes whole. They say no BYE: with
+// `--spark-done-after S` one silent for S s after a graph counts as done for --expect-robots.
 
 #include <chrono>
 #include <filesystem>
@@ -24,6 +28,7 @@
 #include "hydra_multi/apps/stop_signals.h"
 #include "hydra_multi/dsg/io/binary_format.h"
 #include "hydra_multi/net/fused_graph.h"
+#include "hydra_multi/net/hydra_robots.h"
 #include "hydra_multi/net/keys.h"
 #include "hydra_multi/net/protocol.h"
 #include "hydra_multi/net/spark_publisher.h"
@@ -67,6 +72,7 @@ int runStationCommand(const StationCommandOptions& o) {
   // server once it exists (and not after it is gone).
   std::mutex links_mutex;
   const net::StationServer* link_source = nullptr;
+  const net::HydraRobots* hydra_source = nullptr;
   auto opened = RunViewer::open(
       o.out, o.http,
       [&](const RoundOutput*) {
@@ -75,6 +81,10 @@ int runStationCommand(const StationCommandOptions& o) {
         if (link_source == nullptr) return links;
         for (const auto& [robot, l] : link_source->links())
           links[robot] = {l.connected && !l.said_bye, l.silent_s, l.bytes, l.said_bye};
+        if (hydra_source != nullptr) {
+          for (const auto& [robot, l] : hydra_source->links())
+            links[robot] = {l.connected && !l.said_bye, l.silent_s, l.bytes, l.said_bye};
+        }
         return links;
       },
       o.quiet);
@@ -116,23 +126,48 @@ int runStationCommand(const StationCommandOptions& o) {
   }
   server_options.max_message_bytes = static_cast<size_t>(o.max_message_mb * (1 << 20));
   server_options.log = log;
+  net::HydraRobotsOptions hydra_options;
+  for (const std::string& text : o.spark_robots) {
+    auto source = net::parseHydraRobotSource(text);
+    if (!source) return fail("--spark-robot " + source.error());
+    server_options.other_inputs.insert(source.value().robot);
+    hydra_options.robots.push_back(source.value());
+  }
   const std::string journal_path = (fs::path(o.out) / "journal.sqlite").string();
   auto journal =
       store::Journal::open(journal_path, o.durability == "normal" ? store::Durability::kNormal
                                                                   : store::Durability::kFull);
   if (!journal) return fail(journal.error());
-  server_options.persist = [&journal](const RobotUpdate& u, uint64_t epoch,
-                                      const std::string& payload, size_t wire_bytes) {
+  // The server's thread and each Hydra robot's append to the one journal.
+  std::mutex journal_mutex;
+  const auto persist = [&journal, &journal_mutex](const RobotUpdate& u, uint64_t epoch,
+                                                  const std::string& payload, size_t wire_bytes) {
     const int64_t now = std::chrono::duration_cast<std::chrono::nanoseconds>(
                             std::chrono::system_clock::now().time_since_epoch())
                             .count();
+    std::lock_guard<std::mutex> lock(journal_mutex);
     return journal.value()->append(
         {u.robot, epoch, u.sequence, payload, now, u.is_snapshot, wire_bytes});
   };
+  server_options.persist = persist;
   auto server = net::StationServer::create(station, server_options);
   if (!server) return fail(server.error());
+  std::unique_ptr<net::HydraRobots> hydra;
+  if (!hydra_options.robots.empty()) {
+    hydra_options.max_message_bytes = server_options.max_message_bytes;
+    hydra_options.done_after_s = o.spark_done_after_s;
+    hydra_options.log = log;
+    hydra_options.persist = [&persist](const RobotUpdate& u, const std::string& payload,
+                                       size_t wire_bytes) {
+      return persist(u, 0, payload, wire_bytes);
+    };
+    auto created = net::HydraRobots::create(station, hydra_options);
+    if (!created) return fail(created.error());
+    hydra = std::move(created).value();
+  }
   // What an earlier station on this folder acknowledged, before any robot is heard.
   size_t replayed = 0, unreadable = 0;
+  std::map<RobotId, uint64_t> hydra_next;  // a Hydra robot's next sequence after the journal's
   const Status read = journal.value()->replay([&](store::JournalEntry&& e) {
     auto u = io::decodeRobotUpdateBinary(e.payload);
     if (!u || u.value().robot != e.robot || u.value().sequence != e.sequence) {
@@ -141,7 +176,11 @@ int runStationCommand(const StationCommandOptions& o) {
           e.robot.str() + " does not decode; left out" + (u ? "" : ": " + u.error()));
       return;
     }
-    server.value()->hold(e.robot, e.epoch, e.sequence, u.value().is_snapshot);
+    if (hydra && hydra->has(e.robot)) {
+      hydra_next[e.robot] = std::max(hydra_next[e.robot], e.sequence + 1);
+    } else {
+      server.value()->hold(e.robot, e.epoch, e.sequence, u.value().is_snapshot);
+    }
     station.submit(std::move(u).value());
     ++replayed;
   });
@@ -149,9 +188,17 @@ int runStationCommand(const StationCommandOptions& o) {
   if (replayed + unreadable > 0)
     std::cerr << "station: resumed from " << journal_path << ": " << replayed << " updates replayed"
               << (unreadable ? ", " + std::to_string(unreadable) + " left out" : "") << std::endl;
+  if (hydra) {
+    for (const auto& [robot, next] : hydra_next) hydra->resumeAt(robot, next);
+    hydra->start();
+    for (const net::HydraRobotSource& r : hydra_options.robots)
+      std::cerr << "station: Hydra robot " << r.robot.str() << ": subscribed to " << r.endpoint
+                << std::endl;
+  }
   {
     std::lock_guard<std::mutex> lock(links_mutex);
     link_source = server.value().get();
+    hydra_source = hydra.get();
   }
   const std::string endpoint = server.value()->endpoint();
   std::ofstream(fs::path(o.out) / "endpoint") << endpoint << "\n";
@@ -170,8 +217,21 @@ int runStationCommand(const StationCommandOptions& o) {
 
   {
     const StopSignals signals;
-    server.value()->serve([] { return StopSignals::requested(); }, o.expect_robots);
+    if (!hydra) {
+      server.value()->serve([] { return StopSignals::requested(); }, o.expect_robots);
+    } else {
+      // Hydra robots say no BYE: the team is done when BYEs and Hydra robots done make it.
+      const net::StationServer& s = *server.value();
+      server.value()->serve([&] {
+        if (StopSignals::requested()) return true;
+        if (o.expect_robots == 0) return false;
+        size_t done = hydra->done();
+        for (const auto& [robot, l] : s.links()) done += l.said_bye ? 1 : 0;
+        return done >= o.expect_robots;
+      });
+    }
   }
+  if (hydra) hydra->stop();
   log("station: input closed; last backend round");
   const StationResult result = station.finish();
   if (publisher) publisher->close();        // the final graph is out; subscribers are told it is
@@ -180,6 +240,7 @@ int runStationCommand(const StationCommandOptions& o) {
   {
     std::lock_guard<std::mutex> lock(links_mutex);
     link_source = nullptr;
+    hydra_source = nullptr;
   }
   if (Status s = writeStationOutputs(o.out, result); !s) return fail(s.message());
   if (Status s = writeStationLoopClosures(o.out, result); !s) return fail(s.message());
@@ -224,6 +285,30 @@ int runStationCommand(const StationCommandOptions& o) {
     }
     duplicates += c.duplicates;
   }
+  size_t hydra_graphs = 0, hydra_bytes = 0, hydra_refused = 0;
+  if (hydra) {
+    for (const auto& [robot, c] : hydra->counts()) {
+      nlohmann::ordered_json entry = {{"input", "hydra"},
+                                      {"graphs", c.graphs},
+                                      {"bytes", c.bytes},
+                                      {"overtaken", c.overtaken},
+                                      {"refused", c.refused},
+                                      {"unchanged", c.unchanged},
+                                      {"updates", c.updates},
+                                      {"snapshots", c.snapshots},
+                                      {"next_sequence", c.next_sequence},
+                                      {"last_graph_bytes", c.last_bytes}};
+      if (const auto t = sent.find(robot); t != sent.end()) {
+        entry["update_bytes"] = t->second.wire_bytes;
+        entry["update_record_bytes"] = t->second.record_bytes;
+        entry["full_resend_bytes"] = t->second.full_resend_bytes;
+      }
+      robots[robot.str()] = entry;
+      hydra_graphs += c.graphs;
+      hydra_bytes += c.bytes;
+      hydra_refused += c.refused;
+    }
+  }
   const nlohmann::ordered_json summary = {{"endpoint", endpoint},
                                           {"robots", result.robots},
                                           {"robots_aligned", result.aligned.size()},
@@ -234,7 +319,7 @@ int runStationCommand(const StationCommandOptions& o) {
                                           {"updates_rejected", result.counts.rejected},
                                           {"updates_behind_gap", result.counts.behindGap()},
                                           {"snapshots_requested", counts.snapshots_requested},
-                                          {"bytes_received", counts.bytes},
+                                          {"bytes_received", counts.bytes + hydra_bytes},
                                           {"update_bytes", team.wire_bytes},
                                           {"update_record_bytes", team.record_bytes},
                                           {"full_resend_bytes", team.full_resend_bytes},
@@ -258,6 +343,10 @@ int runStationCommand(const StationCommandOptions& o) {
       << "  updates               " << describeUpdates(result.counts, 0) << "\n"
       << "  messages              " << counts.bytes << " bytes, " << duplicates
       << " updates resent and held already, " << refused << " refused\n"
+      << (hydra ? "  Hydra robots          " + std::to_string(hydra_graphs) + " graphs, " +
+                      std::to_string(hydra_bytes) + " bytes, " + std::to_string(hydra_refused) +
+                      " refused\n"
+                : std::string())
       << "  bandwidth             " << team.wire_bytes << " bytes of updates on the wire, "
       << team.record_bytes << " uncompressed; as full resends " << team.full_resend_bytes
       << " bytes uncompressed, " << std::setprecision(1) << fullResendRatio(team)

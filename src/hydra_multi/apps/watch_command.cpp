@@ -5,10 +5,12 @@
 // every update. Ends at the station's final graph, after --count updates, at --timeout, or at
 // SIGINT/SIGTERM. With --spark it subscribes to a Spark-DSG publisher instead (a Hydra robot, or
 // station --spark-publish) and takes each whole graph in Spark-DSG's wire form; it also ends
-// --idle seconds after the last graph.
+// --idle seconds after the last graph; an --out .sparkdsg then gets the last message as it came,
+// behind Spark-DSG's file header.
 
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 
 #include "hydra_multi/apps/commands.h"
@@ -24,13 +26,22 @@ namespace hydra_multi::apps {
 namespace {
 
 // Written beside, then renamed: a reader never sees half a graph.
-Status writeLatest(const std::string& out, const SceneGraph& graph) {
+// Written beside and renamed, so that a reader never sees half a file.
+Status replaceWith(const std::string& out, const std::function<Status(const std::string&)>& write) {
   const std::string partial = out + ".partial" + std::filesystem::path(out).extension().string();
-  if (Status s = io::saveSceneGraph(partial, graph); !s) return s;
+  if (Status s = write(partial); !s) return s;
   std::error_code ec;
   std::filesystem::rename(partial, out, ec);
   if (ec) return Error{out + ": " + ec.message()};
   return Status::Ok();
+}
+
+Status writeLatest(const std::string& out, const SceneGraph& graph) {
+  return replaceWith(out, [&](const std::string& path) { return io::saveSceneGraph(path, graph); });
+}
+
+Status writeLatestBytes(const std::string& out, const std::string& bytes) {
+  return replaceWith(out, [&](const std::string& path) { return io::writeFile(path, bytes); });
 }
 
 int watchSpark(const WatchOptions& o) {
@@ -67,7 +78,11 @@ int watchSpark(const WatchOptions& o) {
     for (const auto& [what, n] : imported.value().left_out)
       std::cerr << "watch: left out " << n << " " << what << std::endl;
     if (!o.out.empty()) {
-      if (Status s = writeLatest(o.out, graph); !s) return fail(s.message());
+      // A .sparkdsg gets the message as it came, behind the file header: Spark-DSG loads it.
+      const Status s = io::formatFromPath(o.out) == io::FileFormat::kSparkBinary
+                           ? writeLatestBytes(o.out, io::spark::encodeFileHeader() + *message)
+                           : writeLatest(o.out, graph);
+      if (!s) return fail(s.message());
     }
   }
   std::cerr << "watch: " << graphs << " Spark-DSG graphs"

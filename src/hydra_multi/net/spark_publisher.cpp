@@ -5,6 +5,7 @@
 #include <mutex>
 #include <optional>
 #include <thread>
+#include <variant>
 #include <zmq.hpp>
 
 #include "hydra_multi/dsg/io/spark_binary.h"
@@ -19,7 +20,7 @@ struct SparkPublisher::Impl {
   bool include_mesh = true;
   std::mutex mutex;
   std::condition_variable wake;
-  std::optional<SceneGraph> pending;
+  std::optional<std::variant<SceneGraph, io::spark::Graph>> pending;
   bool stopping = false;
   std::atomic<uint64_t> published{0};
   std::atomic<size_t> last_bytes{0};
@@ -27,7 +28,7 @@ struct SparkPublisher::Impl {
 
   void loop() {
     for (;;) {
-      std::optional<SceneGraph> graph;
+      std::optional<std::variant<SceneGraph, io::spark::Graph>> graph;
       {
         std::unique_lock<std::mutex> lock(mutex);
         wake.wait(lock, [&] { return pending.has_value() || stopping; });
@@ -35,8 +36,14 @@ struct SparkPublisher::Impl {
         graph = std::move(pending);
         pending.reset();
       }
-      const std::string message =
-          io::spark::encodeWire(io::sparkFromSceneGraph(*graph, include_mesh));
+      io::spark::Graph spark;
+      if (const SceneGraph* ours = std::get_if<SceneGraph>(&*graph)) {
+        spark = io::sparkFromSceneGraph(*ours, include_mesh);
+      } else {
+        spark = std::move(std::get<io::spark::Graph>(*graph));
+        if (!include_mesh) spark.mesh.reset();
+      }
+      const std::string message = io::spark::encodeWire(spark);
       (void)pub.send(zmq::buffer(message), zmq::send_flags::none);
       last_bytes = message.size();
       ++published;
@@ -79,6 +86,14 @@ void SparkPublisher::publish(const SceneGraph& graph) {
   {
     std::lock_guard<std::mutex> lock(impl_->mutex);
     impl_->pending = graph;
+  }
+  impl_->wake.notify_all();
+}
+
+void SparkPublisher::publish(io::spark::Graph graph) {
+  {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    impl_->pending = std::move(graph);
   }
   impl_->wake.notify_all();
 }

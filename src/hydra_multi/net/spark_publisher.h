@@ -12,6 +12,7 @@
 #include <string>
 
 #include "hydra_multi/core/result.h"
+#include "hydra_multi/dsg/io/spark_binary.h"
 #include "hydra_multi/dsg/scene_graph.h"
 
 namespace hydra_multi::net {
@@ -26,6 +27,8 @@ class SparkPublisher {
   const std::string& endpoint() const;  ///< as bound, with the port '*' picked
   /// Queues a round's graph (any thread).
   void publish(const SceneGraph& graph);
+  /// Queues a graph in Spark-DSG's form as it is (its mesh left out unless included).
+  void publish(io::spark::Graph graph);
   uint64_t published() const;  ///< messages sent
   size_t lastBytes() const;    ///< of the last message sent
 

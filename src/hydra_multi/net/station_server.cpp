@@ -165,6 +165,10 @@ void StationServer::Impl::authenticate() {
 }
 
 void StationServer::Impl::onHello(const std::string& id, Session& session, const Message& m) {
+  if (options.other_inputs.count(m.robot))
+    return refuse(id, session, RefuseCode::kWrongRobot,
+                  "HELLO for robot " + m.robot.str() +
+                      ", whose updates the station takes from another input (--spark-robot)");
   if (session.key_robot && *session.key_robot != m.robot)
     return refuse(
         id, session, RefuseCode::kWrongRobot,

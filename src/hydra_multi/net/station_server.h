@@ -19,6 +19,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 
 #include "hydra_multi/core/result.h"
@@ -50,6 +51,8 @@ struct StationServerOptions {
   /// robot's; a connection speaks only for the robot of its key. Empty: no authentication.
   std::string secret_key;
   std::map<std::string, RobotId> robot_keys;
+  /// Robots whose updates come from another input (Hydra robots): a HELLO for one is refused.
+  std::set<RobotId> other_inputs;
 };
 
 /// What became of one robot's messages (over all its connections).

@@ -698,16 +698,18 @@ std::string encodeWire(const Graph& graph) {
   return w.release();
 }
 
-std::string encodeFile(const Graph& graph, const FileHeader& header) {
+std::string encodeFileHeader(const FileHeader& header) {
   Writer w;
   w.string("SPARK_DSG");
   w.string(header.project);
   w.u8(header.version.major);
   w.u8(header.version.minor);
   w.u8(header.version.patch);
-  std::string out = w.release();
-  out += encodeWire(graph);
-  return out;
+  return w.release();
+}
+
+std::string encodeFile(const Graph& graph, const FileHeader& header) {
+  return encodeFileHeader(header) + encodeWire(graph);
 }
 
 }  // namespace hydra_multi::io::spark

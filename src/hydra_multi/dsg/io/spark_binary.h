@@ -169,6 +169,8 @@ Result<Graph> decodeFile(std::string_view bytes, FileHeader* header = nullptr);
 
 std::string encodeWire(const Graph& graph);
 std::string encodeFile(const Graph& graph, const FileHeader& header = {});
+/// The file form's header alone: a message in the wire form after it is a .sparkdsg file.
+std::string encodeFileHeader(const FileHeader& header = {});
 
 /// The node types this codec knows (it refuses a names table with others).
 const std::vector<std::string>& knownNodeTypes();

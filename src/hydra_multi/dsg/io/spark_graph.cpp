@@ -263,6 +263,63 @@ spark::Graph sparkFromSceneGraph(const SceneGraph& graph, bool include_mesh) {
   return g;
 }
 
+void moveSparkGraph(spark::Graph& graph, const Eigen::Vector3d& offset, double yaw) {
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Quaterniond q_R(R);
+  const auto point = [&](std::array<double, 3>& p) {
+    const Eigen::Vector3d moved = R * Eigen::Vector3d(p[0], p[1], p[2]) + offset;
+    p = {moved.x(), moved.y(), moved.z()};
+  };
+  const auto turn = [&](spark::Quaternion& q) {
+    const Eigen::Quaterniond turned = q_R * Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+    q = {turned.w(), turned.x(), turned.y(), turned.z()};
+  };
+  // A 2x2 matrix on xy offsets, row-major: M' = R2 M R2^T.
+  const auto turn2d = [&](spark::Matrix& m) {
+    if (m.rows != 2 || m.cols != 2 || m.values.size() != 4) return;
+    Eigen::Matrix2d M;
+    M << m.values[0], m.values[1], m.values[2], m.values[3];
+    const Eigen::Matrix2d R2 = R.topLeftCorner<2, 2>();
+    const Eigen::Matrix2d turned = R2 * M * R2.transpose();
+    m.values = {turned(0, 0), turned(0, 1), turned(1, 0), turned(1, 1)};
+  };
+  for (spark::Node& n : graph.nodes) {
+    spark::Attributes& a = n.attributes;
+    point(a.position);
+    turn(a.world_R_body);
+    turn(a.world_R_object);
+    turn(a.orientation);
+    for (auto& p : a.boundary) point(p);
+    point(a.ellipse_centroid);
+    turn2d(a.ellipse_matrix_compress);
+    turn2d(a.ellipse_matrix_expand);
+    spark::BoundingBox& box = a.bounding_box;
+    if (box.type == 0) continue;
+    const Eigen::Vector3f c = (R * Eigen::Vector3d(box.center[0], box.center[1], box.center[2]) +
+                               offset)
+                                  .cast<float>();
+    box.center = {c.x(), c.y(), c.z()};
+    if (box.type == 1) {  // axis-aligned: the box that holds the turned one
+      const Eigen::Vector3d d(box.dimensions[0], box.dimensions[1], box.dimensions[2]);
+      const Eigen::Vector3f held = (R.cwiseAbs() * d).cast<float>();
+      box.dimensions = {held.x(), held.y(), held.z()};
+    } else if (box.rotation.rows == 3 && box.rotation.cols == 3 && box.rotation.values.size() == 9) {
+      Eigen::Matrix3d Rb;
+      for (int i = 0; i < 9; ++i) Rb(i / 3, i % 3) = box.rotation.values[static_cast<size_t>(i)];
+      const Eigen::Matrix3d turned = R * Rb;
+      for (int i = 0; i < 9; ++i)
+        box.rotation.values[static_cast<size_t>(i)] = double(float(turned(i / 3, i % 3)));
+    }
+  }
+  if (graph.mesh) {
+    for (auto& p : graph.mesh->points) {
+      const Eigen::Vector3f moved =
+          (R * Eigen::Vector3d(p[0], p[1], p[2]) + offset).cast<float>();
+      p = {moved.x(), moved.y(), moved.z()};
+    }
+  }
+}
+
 Result<SceneGraph> sceneGraphFromSparkFile(const std::string& bytes) {
   auto spark = spark::decodeFile(bytes);
   if (!spark) return Error{spark.error()};

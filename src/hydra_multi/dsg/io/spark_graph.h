@@ -34,6 +34,12 @@ struct SparkImport {
 Result<SparkImport> sceneGraphFromSpark(const spark::Graph& spark);
 spark::Graph sparkFromSceneGraph(const SceneGraph& graph, bool include_mesh = true);
 
+/// Moves a graph as a robot whose odometric frame is turned by `yaw` (rad, about z) and offset by
+/// `offset` would have mapped it (p' = R p + t): node positions, agents' and objects'
+/// orientations, boxes (an AABB becomes the AABB of the turned box; oriented boxes turn), places'
+/// frontier orientations, 2D places' boundaries and ellipses, the mesh.
+void moveSparkGraph(spark::Graph& graph, const Eigen::Vector3d& offset, double yaw);
+
 /// A .sparkdsg file's bytes to our graph (what was left out is dropped; use the two steps to see
 /// it), and our graph to a .sparkdsg file's bytes.
 Result<SceneGraph> sceneGraphFromSparkFile(const std::string& bytes);
