@@ -9,7 +9,7 @@ DATA ?= ../shared/data
 
 CMAKE_FLAGS = -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DHYDRA_MULTI_WERROR=$(WERROR)
 
-.PHONY: all deps build test test-sanitize demo bench bench-robust bench-sim bench-frontend bench-backend bench-journal bench-bandwidth bench-viewer viewer-screenshot format clean
+.PHONY: all deps build test test-sanitize demo bench bench-robust bench-sim bench-frontend bench-backend bench-journal bench-bandwidth bench-viewer bench-hydra viewer-screenshot format clean
 
 all: build
 
@@ -67,6 +67,13 @@ bench-journal: build
 # (DATASET=DIR).
 bench-bandwidth: build
 	@$(BUILD_DIR)/bench/bench_bandwidth $(DATASET)
+
+# What the station makes of office-3 when the robots speak as Hydra robots (whole Spark-DSG graphs
+# over ZeroMQ) against our protocol and the file replay, with the bytes each sent (SEED=N,
+# HYDRA_SPEED=X: robot time, 10 by default; about 6 minutes).
+HYDRA_SPEED ?= 10
+bench-hydra: build
+	@./scripts/bench_hydra.sh $(BUILD_DIR)/hydra-multi out/bench-hydra $(SEED) $(HYDRA_SPEED)
 
 # The viewer in headless chromium on a 10-robot run's graph (VIEWER_RUN=DIR; made when missing,
 # about 11 minutes): first frame, frames per second while orbiting, bytes, lag.

@@ -68,6 +68,8 @@ struct SimulateOptions {
   std::optional<double> label_confusion;
   /// Every this many updates a robot sends its whole map as a snapshot (0: only the first).
   size_t snapshot_every = 0;
+  /// Robots send no keypoints, no loop closures of their own: only what Hydra robots send.
+  bool no_keypoints = false, no_own_loop_closures = false;
   bool quiet = false;  ///< no progress lines on stderr
 };
 int runSimulate(const SimulateOptions& options);

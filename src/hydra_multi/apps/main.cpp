@@ -145,6 +145,10 @@ int main(int argc, char** argv) {
               "update recovers (0: only the first)",
               size_t{0}, size_t{1000000})
       ->capture_default_str();
+  simulate_cmd->add_flag("--no-keypoints", simulate.no_keypoints,
+                         "robots send no keypoints with their keyframes (as Hydra robots)");
+  simulate_cmd->add_flag("--no-own-loop-closures", simulate.no_own_loop_closures,
+                         "robots send no loop closures of their own (as Hydra robots)");
   simulate_cmd->add_flag("--quiet", simulate.quiet, "no progress lines on stderr");
 
   EvaluateOptions evaluate;

@@ -21,6 +21,8 @@ Result<sim::SimulationConfig> simulationConfig(const SimulateOptions& o) {
   if (!config) return Error{config.error()};
   if (o.label_confusion) config.value().mapper.detection.confusion_probability = *o.label_confusion;
   config.value().mapper.snapshot_every = o.snapshot_every;
+  config.value().mapper.send_keypoints = !o.no_keypoints;
+  config.value().mapper.send_own_loop_closures = !o.no_own_loop_closures;
   return config;
 }
 

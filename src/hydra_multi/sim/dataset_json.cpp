@@ -76,6 +76,8 @@ json parametersJson(const SimulationConfig& c) {
       {"mapper",
        {{"update_period_s", m.update_period_s},
         {"snapshot_every", m.snapshot_every},
+        {"send_keypoints", m.send_keypoints},
+        {"send_own_loop_closures", m.send_own_loop_closures},
         {"mesh_noise_sigma_m", m.mesh_noise_sigma},
         {"control_point_spacing_m", m.control_point_spacing},
         {"keypoint_sigma_base_m", m.keypoint_sigma_base},

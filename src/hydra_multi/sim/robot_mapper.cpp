@@ -534,6 +534,18 @@ class RobotMapper {
 std::vector<RobotUpdate> emulateRobotMap(const SensedWorld& sensed, const RobotRun& run,
                                          const MapperOptions& options) {
   std::vector<RobotUpdate> updates = RobotMapper(sensed, run, options).run();
+  for (RobotUpdate& u : updates) {
+    if (!options.send_keypoints) {
+      for (KeyframeDescriptor& d : u.descriptors) d.keypoints.clear();
+    }
+    if (!options.send_own_loop_closures) {
+      u.pose_graph.erase(std::remove_if(u.pose_graph.begin(), u.pose_graph.end(),
+                                        [](const PoseGraphEdge& e) {
+                                          return e.kind == PoseGraphEdge::Kind::kLoopClosure;
+                                        }),
+                         u.pose_graph.end());
+    }
+  }
   if (options.snapshot_every == 0) return updates;
   // Every snapshot_every-th update goes as the snapshot of the map so far.
   RobotStreamState sent;

@@ -62,6 +62,10 @@ struct MapperOptions {
   /// Every this many updates the robot sends the snapshot of its whole map instead of a delta,
   /// so a station that lost an update recovers (0: only the first update is a snapshot).
   size_t snapshot_every = 0;
+  /// What a robot sends beyond what a Hydra robot's graph holds: its keyframes' keypoints and
+  /// its own loop closures. Off, its stream holds only what the station can take from Hydra.
+  bool send_keypoints = true;
+  bool send_own_loop_closures = true;
   double mesh_noise_sigma = 0.01;      ///< per vertex and axis (m)
   double control_point_spacing = 2.5;  ///< deformation-graph voxel (m; Hydra: 2.5)
   double keypoint_sigma_base = 0.002;  ///< keypoint noise a + b * depth^2 (m), RGB-D-like

@@ -1,15 +1,24 @@
 #pragma once
-// Spark-DSG's binary scene-graph layout (../shared/reference/spark-dsg-wire.md §1), format 1.1.3:
-// the file form (`.sparkdsg`: a header naming the project and version, then the graph) and the
-// wire form of its ZeroMQ messages (the graph alone). Every scalar is a tag byte and its
-// little-endian payload; arrays and strings are ARR32 with a count; nodes and edges are dynamic
-// arrays (00 ... 01) of records whose attributes follow their type's field order with no framing.
+// Spark-DSG's binary scene-graph layout (../shared/reference/spark-dsg-wire.md §1), formats 1.0.2
+// to 1.1.4: the file form (`.sparkdsg`: a header naming the project and version, then the graph)
+// and the wire form of its ZeroMQ messages (the graph alone; its version is the sender's, which
+// the caller gives). Every scalar is a tag byte and its little-endian payload; arrays and strings
+// are ARR32 with a count; nodes and edges are dynamic arrays (00 ... 01) of records whose
+// attributes follow their type's field order with no framing. What changed between versions is
+// read and written as Spark-DSG's readers gate it (§1.10): before 1.1.2 layer ids, not keys;
+// before 1.1.1 (1.1.0) layer names map to ids, before 1.1.0 there are none; before 1.1.0 a node
+// record carries an optional stamp instead of its partition (a stamped node is a dynamic node of
+// the partition of its prefix: agents) and the dynamic nodes follow in an array of their own;
+// before 1.0.6 no metadata; before 1.0.4 no is_predicted; up to 1.0.4 semantic features in double
+// precision; before 1.0.3 boxes by min and max, and up to 1.0.2 colours without alpha; before 1.1.0
+// agents carry no timestamp (the record's stamp is theirs), before 1.1.3 places no anti_frontier;
+// from 1.1.4 2D places have their new layout.
 //
-// SparkGraph holds everything a message carries, field by field, so that encoding a decoded graph
-// writes the same bytes. The decoder checks what Spark-DSG does not: every tag, every fixed
-// array's length, every count against the bytes left, type ids against the message's own names
-// table, names against the types it knows, finite numbers; an error names the byte offset and the
-// field, and nothing is read past the buffer.
+// spark::Graph holds everything a message carries, field by field, so that encoding a decoded
+// graph in its version writes the same bytes. The decoder checks what Spark-DSG does not: every
+// tag, every fixed array's length, every count against the bytes left, type ids against the
+// message's own names table, names against the types it knows, finite numbers; an error names the
+// byte offset and the field, and nothing is read past the buffer.
 
 #include <array>
 #include <cstdint>
@@ -26,12 +35,20 @@ namespace hydra_multi::io::spark {
 struct Version {
   uint8_t major = 1, minor = 1, patch = 3;
   std::string str() const;
-  bool operator==(const Version& o) const {
-    return major == o.major && minor == o.minor && patch == o.patch;
-  }
+  /// "1.1.3" and the like; nullopt for anything else.
+  static std::optional<Version> parse(const std::string& text);
+  constexpr uint32_t key() const { return (uint32_t(major) << 16) | (uint32_t(minor) << 8) | patch; }
+  constexpr bool operator==(const Version& o) const { return key() == o.key(); }
+  constexpr bool operator<(const Version& o) const { return key() < o.key(); }
+  constexpr bool operator<=(const Version& o) const { return key() <= o.key(); }
 };
-/// The version this codec reads and writes (the fixtures' and Hydra main's).
+/// The version written unless another is asked for (the fixtures' and Hydra main's).
 inline constexpr Version kVersion{1, 1, 3};
+/// The versions this codec reads and writes: Spark-DSG refuses files older than 1.0.2; 1.1.4 is
+/// its develop branch's.
+inline constexpr Version kOldestVersion{1, 0, 2}, kNewestVersion{1, 1, 4};
+/// Empty when `version` is one this codec reads and writes, else why not.
+std::string unsupported(const Version& version);
 
 struct LayerKey {
   int64_t layer = 0;
@@ -54,6 +71,8 @@ struct BoundingBox {
   std::array<float, 3> dimensions{};
   std::array<float, 3> center{};
   Matrix rotation;  ///< world_R_center, 3x3 FLOAT32
+  /// Before 1.0.3: the min and max the box was written with (its dimensions are their difference).
+  std::optional<std::array<std::array<float, 3>, 2>> min_max;
   bool operator==(const BoundingBox& o) const {
     return type == o.type && dimensions == o.dimensions && center == o.center &&
            rotation == o.rotation;
@@ -106,12 +125,15 @@ struct Attributes {
   bool need_cleanup = false;
   uint64_t num_frontier_voxels = 0;
   bool anti_frontier = false;
-  // Place2dNodeAttributes (1.1.3)
+  // Place2dNodeAttributes: up to 1.1.3 (from 1.1.4 mesh_connections and boundary_connections
+  // are pcl_mesh_connections and pcl_boundary_connections, and the last three fields are new)
   std::vector<std::array<double, 3>> boundary;
   std::array<double, 3> ellipse_centroid{};
   Matrix ellipse_matrix_compress, ellipse_matrix_expand;
   std::vector<uint64_t> pcl_boundary_connections;
   bool need_cleanup_splitting = false, has_active_mesh_indices = false;
+  uint64_t min_mesh_index = 0, max_mesh_index = 0;
+  bool need_finish_merge = false;
   // AgentNodeAttributes
   int64_t timestamp_ns = 0;
   Quaternion world_R_body{1, 0, 0, 0};
@@ -126,6 +148,9 @@ struct Node {
   int64_t layer = 0;
   uint64_t id = 0;  ///< bits 56-63 the prefix character, 0-55 the index
   uint32_t partition = 0;
+  /// Before 1.1.0: the record's stamp (ns), set on dynamic nodes (their partition is their
+  /// prefix character); an agent's timestamp then.
+  std::optional<int64_t> stamp_ns;
   uint8_t type_id = 0;  ///< into SparkGraph::node_types
   Attributes attributes;
 };
@@ -162,12 +187,14 @@ struct FileHeader {
 };
 
 /// The wire form (a ZeroMQ message's bytes). `version`: the sender's Spark-DSG (the wire has
-/// none); only 1.1.3 is read.
+/// none).
 Result<Graph> decodeWire(std::string_view bytes, Version version = kVersion);
-/// The file form; `header`, when given, receives the file's.
+/// The file form, in the version its header names; `header`, when given, receives the header.
 Result<Graph> decodeFile(std::string_view bytes, FileHeader* header = nullptr);
 
-std::string encodeWire(const Graph& graph);
+/// In `version`'s layout (throws std::invalid_argument for a version unsupported() refuses).
+/// What a version has no field for is not written.
+std::string encodeWire(const Graph& graph, Version version = kVersion);
 std::string encodeFile(const Graph& graph, const FileHeader& header = {});
 /// The file form's header alone: a message in the wire form after it is a .sparkdsg file.
 std::string encodeFileHeader(const FileHeader& header = {});
