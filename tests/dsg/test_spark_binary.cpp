@@ -272,11 +272,11 @@ TEST(SparkBinary, OneNodeGraphInTheLayoutsOf113And102) {
       position + "c2 01 00 01 c2");
   EXPECT_EQ(v113.size(), 195u);
   EXPECT_TRUE(encodeWire(g, kVersion) == v113);
-  // 1.0.2: layer ids, no layer names, no metadata, the node's stamp (none: c0) for its partition,
-  // no is_predicted, and the (empty) array of dynamic nodes.
+  // 1.0.2: layer ids (unsigned, as the node's layer), no layer names, no metadata, the node's
+  // stamp (none: c0) for its partition, no is_predicted, and the (empty) array of dynamic nodes.
   const std::string v102 =
-      hex("dd01000000 d30200000000000000 " + names +
-          "00 dd04000000 d30200000000000000 cf050000000000004f c0 cc00 " + position +
+      hex("dd01000000 cf0200000000000000 " + names +
+          "00 dd04000000 cf0200000000000000 cf050000000000004f c0 cc00 " + position +
           "01 00 01 00 01 c2");
   EXPECT_TRUE(encodeWire(g, Version{1, 0, 2}) == v102);
   auto back = decodeWire(v102, Version{1, 0, 2});

@@ -154,6 +154,8 @@ struct StationCommandOptions {
   std::vector<std::string> spark_robots;
   /// A Hydra robot that sent a graph and then nothing for this long is done, as a BYE (0: never).
   double spark_done_after_s = 0.0;
+  /// The Spark-DSG format of the Hydra robots' graphs and of --spark-publish ("1.1.3").
+  std::string spark_version = "1.1.3";
 };
 int runStationCommand(const StationCommandOptions& options);
 
@@ -188,6 +190,7 @@ struct RobotCommandOptions {
   /// With spark: the graph as a robot whose odometric frame is turned by `move_yaw_deg` about z
   /// and offset by `move_offset` would have mapped it ("X,Y,Z,YAW_DEG" on the command line).
   std::optional<std::array<double, 4>> move;
+  std::string spark_version = "1.1.3";  ///< with spark: the Spark-DSG format published
   bool quiet = false;
 };
 /// Parses "X,Y,Z,YAW_DEG" (metres, degrees); an error says what is wrong.
@@ -204,6 +207,7 @@ struct WatchOptions {
   bool spark = false;
   double idle_s =
       0.0;  ///< with spark: end once nothing came for this long after a graph (0: never)
+  std::string spark_version = "1.1.3";  ///< with spark: the publisher's Spark-DSG format
   bool quiet = false;
 };
 int runWatch(const WatchOptions& options);

@@ -297,6 +297,17 @@ int main(int argc, char** argv) {
            {0.0, 86400.0})
       ->needs(spark_robot)
       ->capture_default_str();
+  const auto spark_version_check = [](const std::string& text) {
+    const auto version = hydra_multi::io::spark::Version::parse(text);
+    if (!version) return "'" + text + "' is not a version (MAJOR.MINOR.PATCH, e.g. 1.1.3)";
+    return hydra_multi::io::spark::unsupported(*version);
+  };
+  station_cmd
+      ->add_option("--spark-version", station.spark_version,
+                   "the Spark-DSG format (1.0.2 to 1.1.4) of the Hydra robots' graphs and of "
+                   "--spark-publish: their Spark-DSG's version (Hydra main: 1.1.3)")
+      ->check(spark_version_check)
+      ->capture_default_str();
   ViewOptions view;
   CLI::App* view_cmd = app.add_subcommand(
       "view", "Serve the viewer of a finished run (run's or station's output folder)");
@@ -330,6 +341,12 @@ int main(int argc, char** argv) {
            "with --spark: end once nothing came for this many seconds after a graph",
            {0.0, 86400.0})
       ->needs(watch_spark);
+  watch_cmd
+      ->add_option("--spark-version", watch.spark_version,
+                   "with --spark: the publisher's Spark-DSG format (1.0.2 to 1.1.4)")
+      ->check(spark_version_check)
+      ->needs(watch_spark)
+      ->capture_default_str();
   watch_cmd->add_flag("--quiet", watch.quiet, "no progress lines on stderr");
 
   KeygenOptions keygen;
@@ -407,6 +424,12 @@ int main(int argc, char** argv) {
         return move ? std::string() : move.error();
       })
       ->needs(robot_spark);
+  robot_cmd
+      ->add_option("--spark-version", robot.spark_version,
+                   "with --spark: the Spark-DSG format (1.0.2 to 1.1.4) to publish in")
+      ->check(spark_version_check)
+      ->needs(robot_spark)
+      ->capture_default_str();
   robot_cmd->add_flag("--quiet", robot.quiet, "no progress lines on stderr");
 
   TrialsOptions trials;

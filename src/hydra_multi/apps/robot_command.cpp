@@ -76,7 +76,8 @@ int publishGraphFile(const RobotCommandOptions& o) {
     graph = io::sparkFromSceneGraph(loaded.value(), true);
   }
   move(graph, o.move);
-  auto publisher = net::SparkPublisher::create(o.bind, true);
+  auto publisher =
+      net::SparkPublisher::create(o.bind, true, *io::spark::Version::parse(o.spark_version));
   if (!publisher) return fail(publisher.error());
   if (!o.quiet)
     std::cerr << "robot: publishing " << o.graph << " in Spark-DSG's wire form on "
@@ -101,7 +102,8 @@ int publishGraphFile(const RobotCommandOptions& o) {
 // A Hydra-speaking robot: the graph its updates have built, published after each as it is due.
 int publishAsHydra(const RobotCommandOptions& o, const std::vector<RobotUpdate>& updates) {
   using Clock = std::chrono::steady_clock;
-  auto publisher = net::SparkPublisher::create(o.bind, true);
+  auto publisher =
+      net::SparkPublisher::create(o.bind, true, *io::spark::Version::parse(o.spark_version));
   if (!publisher) return fail(publisher.error());
   if (!o.quiet)
     std::cerr << "robot " << o.robot << ": publishing its graph in Spark-DSG's wire form on "

@@ -50,6 +50,7 @@ int runStationCommand(const StationCommandOptions& o) {
   }
   const auto config = canonicalStationConfig(o.config);
   if (!config) return fail(config.error());
+  const io::spark::Version spark_version = *io::spark::Version::parse(o.spark_version);
   const auto log = [&o](const std::string& line) {
     if (!o.quiet) std::cerr << line << std::endl;
   };
@@ -96,7 +97,7 @@ int runStationCommand(const StationCommandOptions& o) {
   }
   std::unique_ptr<net::SparkPublisher> spark;
   if (!o.spark_publish.empty()) {
-    auto created = net::SparkPublisher::create(o.spark_publish, !o.spark_no_mesh);
+    auto created = net::SparkPublisher::create(o.spark_publish, !o.spark_no_mesh, spark_version);
     if (!created) return fail(created.error());
     spark = std::move(created).value();
     std::ofstream(fs::path(o.out) / "spark_publish") << spark->endpoint() << "\n";
@@ -156,6 +157,7 @@ int runStationCommand(const StationCommandOptions& o) {
   if (!hydra_options.robots.empty()) {
     hydra_options.max_message_bytes = server_options.max_message_bytes;
     hydra_options.done_after_s = o.spark_done_after_s;
+    hydra_options.version = spark_version;
     hydra_options.log = log;
     hydra_options.persist = [&persist](const RobotUpdate& u, const std::string& payload,
                                        size_t wire_bytes) {

@@ -60,7 +60,7 @@ int watchSpark(const WatchOptions& o) {
          !(o.idle_s > 0.0 && graphs > 0 && seconds(last) >= o.idle_s)) {
     const std::optional<std::string> message = sub.value()->receive(std::chrono::milliseconds(100));
     if (!message) continue;
-    auto wire = io::spark::decodeWire(*message);
+    auto wire = io::spark::decodeWire(*message, *io::spark::Version::parse(o.spark_version));
     auto imported =
         wire ? io::sceneGraphFromSpark(wire.value()) : Result<io::SparkImport>(Error{wire.error()});
     if (!imported) {

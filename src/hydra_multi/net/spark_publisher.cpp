@@ -18,6 +18,7 @@ struct SparkPublisher::Impl {
   zmq::socket_t pub{context, zmq::socket_type::pub};
   std::string endpoint;
   bool include_mesh = true;
+  io::spark::Version version = io::spark::kVersion;
   std::mutex mutex;
   std::condition_variable wake;
   std::optional<std::variant<SceneGraph, io::spark::Graph>> pending;
@@ -43,7 +44,7 @@ struct SparkPublisher::Impl {
         spark = std::move(std::get<io::spark::Graph>(*graph));
         if (!include_mesh) spark.mesh.reset();
       }
-      const std::string message = io::spark::encodeWire(spark);
+      const std::string message = io::spark::encodeWire(spark, version);
       (void)pub.send(zmq::buffer(message), zmq::send_flags::none);
       last_bytes = message.size();
       ++published;
@@ -52,9 +53,12 @@ struct SparkPublisher::Impl {
 };
 
 Result<std::unique_ptr<SparkPublisher>> SparkPublisher::create(const std::string& endpoint,
-                                                               bool include_mesh) {
+                                                               bool include_mesh,
+                                                               io::spark::Version version) {
+  if (const std::string why = io::spark::unsupported(version); !why.empty()) return Error{why};
   auto impl = std::make_unique<Impl>();
   impl->include_mesh = include_mesh;
+  impl->version = version;
   try {
     impl->pub.set(zmq::sockopt::linger, 1000);
     impl->pub.bind(endpoint);

@@ -1,7 +1,8 @@
 #pragma once
 // The fused graph in Spark-DSG's form (../shared/reference/spark-dsg-wire.md §2), as Spark-DSG's
 // ZmqSender sends it: a PUB socket that binds, one single-part message per backend round holding
-// the whole graph in the wire form (dsg/io/spark_binary.h, no header, format 1.1.3; node ids and
+// the whole graph in the wire form (dsg/io/spark_binary.h, no header, format 1.1.3 or the version
+// given: the receivers' Spark-DSG; node ids and
 // robots as dsg/io/spark_graph.h maps them), the mesh with it unless told not to. Spark-DSG's
 // ZmqReceiver, Hydra's tools and Spark-DSG's viewer read it by connecting a SUB. The graph is
 // encoded on the publisher's own thread; a round not yet sent is overtaken by the next.
@@ -20,8 +21,9 @@ namespace hydra_multi::net {
 class SparkPublisher {
  public:
   /// Binds `endpoint` (tcp://HOST:PORT, '*' for a free port); an error names it.
-  static Result<std::unique_ptr<SparkPublisher>> create(const std::string& endpoint,
-                                                        bool include_mesh);
+  static Result<std::unique_ptr<SparkPublisher>> create(
+      const std::string& endpoint, bool include_mesh,
+      io::spark::Version version = io::spark::kVersion);
   /// Sends what is queued, then stops.
   ~SparkPublisher();
   const std::string& endpoint() const;  ///< as bound, with the port '*' picked

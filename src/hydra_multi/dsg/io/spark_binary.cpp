@@ -70,7 +70,8 @@ void readNodes(Reader& r, Graph& g, const std::vector<std::optional<Kind>>& kind
     try {
       Node n;
       r.fixed(4, "node");
-      n.layer = r.i64("node layer");
+      n.layer = v < Version{1, 1, 0} ? static_cast<int64_t>(r.u64("node layer"))
+                                     : r.i64("node layer");
       n.id = r.u64("node id");
       if (v < Version{1, 1, 0}) {
         if (r.peek(kNil)) {
@@ -97,8 +98,11 @@ void readNodes(Reader& r, Graph& g, const std::vector<std::optional<Kind>>& kind
 Graph readGraph(Reader& r, Version v) {
   Graph g;
   if (v < Version{1, 1, 2}) {
-    readVector(r, g.layer_keys, "layer ids", 9,
-               [&](LayerKey& k) { k = {r.i64("layer ids"), 0}; });
+    // Layer ids were unsigned before 1.1.0.
+    readVector(r, g.layer_keys, "layer ids", 9, [&](LayerKey& k) {
+      k = {v < Version{1, 1, 0} ? static_cast<int64_t>(r.u64("layer ids")) : r.i64("layer ids"),
+           0};
+    });
   } else {
     readVector(r, g.layer_keys, "layer keys", 20,
                [&](LayerKey& k) { readLayerKey(r, k, "layer keys"); });
@@ -151,7 +155,10 @@ Graph readGraph(Reader& r, Version v) {
 
 void writeNode(Writer& w, const Graph& g, const Node& n, Version v) {
   w.length(4);
-  w.i64(n.layer);
+  if (v < Version{1, 1, 0})
+    w.u64(static_cast<uint64_t>(n.layer));
+  else
+    w.i64(n.layer);
   w.u64(n.id);
   if (v < Version{1, 1, 0}) {
     if (n.stamp_ns)
@@ -180,7 +187,12 @@ void writeGraph(Writer& w, const Graph& g, Version v) {
     for (const LayerKey& k : g.layer_keys) {
       if (std::find(ids.begin(), ids.end(), k.layer) == ids.end()) ids.push_back(k.layer);
     }
-    writeVector(w, ids, [&](int64_t id) { w.i64(id); });
+    writeVector(w, ids, [&](int64_t id) {
+      if (v < Version{1, 1, 0})
+        w.u64(static_cast<uint64_t>(id));
+      else
+        w.i64(id);
+    });
   } else {
     writeVector(w, g.layer_keys, [&](const LayerKey& k) { writeLayerKey(w, k); });
   }

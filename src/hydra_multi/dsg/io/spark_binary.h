@@ -5,7 +5,9 @@
 // the caller gives). Every scalar is a tag byte and its little-endian payload; arrays and strings
 // are ARR32 with a count; nodes and edges are dynamic arrays (00 ... 01) of records whose
 // attributes follow their type's field order with no framing. What changed between versions is
-// read and written as Spark-DSG's readers gate it (§1.10): before 1.1.2 layer ids, not keys;
+// read and written as Spark-DSG's writers of each version wrote it (§1.10, checked against
+// Spark-DSG built at those versions): before 1.1.2 layer ids, not keys, unsigned before 1.1.0 (as
+// a node's layer then);
 // before 1.1.1 (1.1.0) layer names map to ids, before 1.1.0 there are none; before 1.1.0 a node
 // record carries an optional stamp instead of its partition (a stamped node is a dynamic node of
 // the partition of its prefix: agents) and the dynamic nodes follow in an array of their own;
