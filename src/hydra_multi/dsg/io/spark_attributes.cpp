@@ -104,6 +104,7 @@ void readFields(Reader& r, Attributes& a, Kind kind, Version v) {
                  [&](uint8_t& x) { x = r.u8("mesh_vertex_labels"); });
       readU64s(r, a.deformation_connections, "deformation_connections");
       a.real_place = r.boolean("real_place");
+      if (v <= Version{1, 0, 3}) a.predicted_place = r.boolean("predicted_place");
       a.active_frontier = r.boolean("active_frontier");
       readVector3(r, a.frontier_scale, "frontier_scale");
       readQuaternion(r, a.orientation, "orientation");
@@ -177,6 +178,7 @@ void writeFields(Writer& w, const Attributes& a, Kind kind, Version v) {
       writeVector(w, a.mesh_vertex_labels, [&](uint8_t x) { w.u8(x); });
       writeU64s(w, a.deformation_connections);
       w.boolean(a.real_place);
+      if (v <= Version{1, 0, 3}) w.boolean(a.predicted_place);
       w.boolean(a.active_frontier);
       writeVector3(w, a.frontier_scale);
       writeQuaternion(w, a.orientation);

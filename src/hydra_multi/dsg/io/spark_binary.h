@@ -11,10 +11,10 @@
 // before 1.1.1 (1.1.0) layer names map to ids, before 1.1.0 there are none; before 1.1.0 a node
 // record carries an optional stamp instead of its partition (a stamped node is a dynamic node of
 // the partition of its prefix: agents) and the dynamic nodes follow in an array of their own;
-// before 1.0.6 no metadata; before 1.0.4 no is_predicted; up to 1.0.4 semantic features in double
-// precision; before 1.0.3 boxes by min and max, and up to 1.0.2 colours without alpha; before 1.1.0
-// agents carry no timestamp (the record's stamp is theirs), before 1.1.3 places no anti_frontier;
-// from 1.1.4 2D places have their new layout.
+// before 1.0.6 no metadata; before 1.0.4 no is_predicted, but places a predicted_place, and
+// colours without alpha; up to 1.0.4 semantic features in double precision; before 1.0.3 boxes by
+// min and max; before 1.1.0 agents carry no timestamp (the record's stamp is theirs), before
+// 1.1.3 places no anti_frontier; from 1.1.4 2D places have their new layout.
 //
 // spark::Graph holds everything a message carries, field by field, so that encoding a decoded
 // graph in its version writes the same bytes. The decoder checks what Spark-DSG does not: every
@@ -121,7 +121,8 @@ struct Attributes {
   std::vector<uint64_t> pcl_mesh_connections;
   std::vector<uint8_t> mesh_vertex_labels;
   std::vector<uint64_t> deformation_connections;
-  bool real_place = true, active_frontier = false;
+  bool real_place = true, predicted_place = false;  ///< predicted_place: up to 1.0.3
+  bool active_frontier = false;
   std::array<double, 3> frontier_scale{};
   Quaternion orientation{1, 0, 0, 0};
   bool need_cleanup = false;

@@ -111,13 +111,13 @@ void writeQuaternion(Writer& w, const Quaternion& q) {
 }
 
 void readColor(Reader& r, std::array<uint8_t, 4>& c, Version v) {
-  const bool rgb = v <= Version{1, 0, 2};
+  const bool rgb = v <= Version{1, 0, 3};
   for (size_t i = 0; i < (rgb ? 3u : 4u); ++i) c[i] = r.u8("color");
   if (rgb) c[3] = 255;
 }
 
 void writeColor(Writer& w, const std::array<uint8_t, 4>& c, Version v) {
-  const bool rgb = v <= Version{1, 0, 2};
+  const bool rgb = v <= Version{1, 0, 3};
   for (size_t i = 0; i < (rgb ? 3u : 4u); ++i) w.u8(c[i]);
 }
 

@@ -145,7 +145,7 @@ void readVector3f(Reader& r, std::array<float, 3>& v, const char* what);
 void writeVector3f(Writer& w, const std::array<float, 3>& v);
 void readQuaternion(Reader& r, Quaternion& q, const char* what);
 void writeQuaternion(Writer& w, const Quaternion& q);
-// Colour: r, g, b, a; up to 1.0.2 an Eigen uint8 3-vector (r, g, b: alpha 255).
+// Colour: r, g, b, a; up to 1.0.3 r, g, b (alpha 255).
 void readColor(Reader& r, std::array<uint8_t, 4>& c, Version v);
 void writeColor(Writer& w, const std::array<uint8_t, 4>& c, Version v);
 // A box: type, dimensions, centre, rotation; before 1.0.3 type, min, max, centre, rotation.
