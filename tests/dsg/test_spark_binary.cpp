@@ -264,20 +264,19 @@ TEST(SparkBinary, OneNodeGraphInTheLayoutsOf113And102) {
       "dd01000000 dd0e000000 4564676541747472696275746573 ";  // EdgeAttributes
   const std::string position =
       "cb000000000000f03f cb0000000000000040 cb0000000000000840 cf0000000000000000 c2 ";
-  const std::string v113 = hex(
-      "dd01000000 dd02000000 d30200000000000000 ce00000000 " + names +
-      "dd01000000 dd07000000 4f424a45435453 dd02000000 d30200000000000000 ce00000000 "
-      "dd02000000 7b7d "
-      "00 dd04000000 d30200000000000000 cf050000000000004f ce00000000 cc00 dd020000007b7d " +
-      position + "c2 01 00 01 c2");
+  const std::string v113 =
+      hex("dd01000000 dd02000000 d30200000000000000 ce00000000 " + names +
+          "dd01000000 dd07000000 4f424a45435453 dd02000000 d30200000000000000 ce00000000 "
+          "dd02000000 7b7d "
+          "00 dd04000000 d30200000000000000 cf050000000000004f ce00000000 cc00 dd020000007b7d " +
+          position + "c2 01 00 01 c2");
   EXPECT_EQ(v113.size(), 195u);
   EXPECT_TRUE(encodeWire(g, kVersion) == v113);
   // 1.0.2: layer ids (unsigned, as the node's layer), no layer names, no metadata, the node's
   // stamp (none: c0) for its partition, no is_predicted, and the (empty) array of dynamic nodes.
-  const std::string v102 =
-      hex("dd01000000 cf0200000000000000 " + names +
-          "00 dd04000000 cf0200000000000000 cf050000000000004f c0 cc00 " + position +
-          "01 00 01 00 01 c2");
+  const std::string v102 = hex("dd01000000 cf0200000000000000 " + names +
+                               "00 dd04000000 cf0200000000000000 cf050000000000004f c0 cc00 " +
+                               position + "01 00 01 00 01 c2");
   EXPECT_TRUE(encodeWire(g, Version{1, 0, 2}) == v102);
   auto back = decodeWire(v102, Version{1, 0, 2});
   ASSERT_TRUE(back) << back.error();

@@ -40,7 +40,9 @@ class Sink {
     endpoint_ = pub_.get(zmq::sockopt::last_endpoint);
   }
   const std::string& endpoint() const { return endpoint_; }
-  void send(const std::string& bytes) { (void)pub_.send(zmq::buffer(bytes), zmq::send_flags::none); }
+  void send(const std::string& bytes) {
+    (void)pub_.send(zmq::buffer(bytes), zmq::send_flags::none);
+  }
 
  private:
   zmq::context_t context_;
@@ -112,12 +114,14 @@ TEST(HydraRobots, RefusesWhatIsNotAGraphAndTakesTheNext) {
   EXPECT_EQ(result.graph.numNodes(Layer::kObjects), 7u);
   bool garbage = false, cut = false, done = false;
   for (const std::string& line : log) {
-    garbage |= line.rfind("station: robot a (Hydra, " + sink.endpoint() + "): graph ", 0) == 0 &&
-               line.find(" (7 bytes): spark binary (wire): byte 0") != std::string::npos;
-    cut |= line.find("(5000 bytes): spark binary (wire): node 0 (at byte 524): byte ") !=
-               std::string::npos &&
-           line.find("; left out (the next graph is taken against the last good one)") !=
-               std::string::npos;
+    garbage |=
+        line.rfind("station: robot a (Hydra, " + sink.endpoint() + "): graph ", 0) == 0 &&
+        line.find(" (7 bytes): spark binary (wire, format 1.1.3): byte 0") != std::string::npos;
+    cut |=
+        line.find("(5000 bytes): spark binary (wire, format 1.1.3): node 0 (at byte 524): byte ") !=
+            std::string::npos &&
+        line.find("; left out (the next graph is taken against the last good one)") !=
+            std::string::npos;
     done |= line.find("nothing for 0.5 s; taken as done") != std::string::npos;
   }
   EXPECT_TRUE(garbage);

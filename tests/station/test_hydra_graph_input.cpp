@@ -122,8 +122,7 @@ TEST(HydraGraphInput, SimulatedRobotSpeakingHydraGivesItsGraphAndWhatItDerives) 
               io::sceneGraphFromSpark(graph).value().graph);
     derived_odometry.insert(derived_odometry.end(), update.pose_graph.begin(),
                             update.pose_graph.end());
-    derived_control.points.insert(derived_control.points.end(),
-                                  update.deformation.points.begin(),
+    derived_control.points.insert(derived_control.points.end(), update.deformation.points.begin(),
                                   update.deformation.points.end());
     derived_control.edges.insert(derived_control.edges.end(), update.deformation.edges.begin(),
                                  update.deformation.edges.end());
@@ -257,8 +256,8 @@ TEST(HydraGraphInput, ARobotThatCorrectsItsMapIsTakenWhole) {
   const RobotUpdate& u = taken.value().value();
   EXPECT_TRUE(u.is_snapshot);
   EXPECT_EQ(notes.correction, "the odometry a0 -> a1 moved");
-  EXPECT_EQ(u.pose_graph.size(), 2u);           // derived anew
-  EXPECT_EQ(u.deformation.points.size(), 3u);   // likewise
+  EXPECT_EQ(u.pose_graph.size(), 2u);          // derived anew
+  EXPECT_EQ(u.deformation.points.size(), 3u);  // likewise
   EXPECT_EQ(u.descriptors.size(), 3u);
   EXPECT_TRUE(u.pose_graph[0].T_from_to.translation().isApprox(Eigen::Vector3d(1, 0.2, 0)));
 

@@ -359,10 +359,11 @@ int main(int argc, char** argv) {
   RobotCommandOptions robot;
   CLI::App* robot_cmd = app.add_subcommand(
       "robot", "Play one robot of a recorded dataset as a live robot streaming to a station");
-  CLI::Option* robot_dataset = cli.inputDirectory(
-      robot_cmd, "--dataset", robot.dataset, "dataset directory (from simulate); required but with --graph");
-  CLI::Option* robot_name =
-      robot_cmd->add_option("--robot", robot.robot, "robot letter (a, b, ...); required but with --graph");
+  CLI::Option* robot_dataset =
+      cli.inputDirectory(robot_cmd, "--dataset", robot.dataset,
+                         "dataset directory (from simulate); required but with --graph");
+  CLI::Option* robot_name = robot_cmd->add_option(
+      "--robot", robot.robot, "robot letter (a, b, ...); required but with --graph");
   CLI::Option* robot_connect =
       robot_cmd->add_option("--connect", robot.connect,
                             "the station's endpoint (tcp://HOST:PORT); required without --spark");
@@ -479,7 +480,8 @@ int main(int argc, char** argv) {
     return cli.refuse("station", "--order-hold applies to --order time only");
   if (*robot_cmd && robot.graph.empty() && (robot.dataset.empty() || robot.robot.empty()))
     return cli.refuse("robot", "--dataset and --robot are required (but with --spark --graph)");
-  if (*robot_cmd && !move_text.empty()) robot.move = hydra_multi::apps::parseMove(move_text).value();
+  if (*robot_cmd && !move_text.empty())
+    robot.move = hydra_multi::apps::parseMove(move_text).value();
   if (*robot_cmd && !robot.spark && robot.connect.empty())
     return cli.refuse("robot", "--connect is required (or --spark with --bind)");
   if (*robot_cmd && robot.spark && robot.bind.empty())

@@ -94,8 +94,8 @@ int publishGraphFile(const RobotCommandOptions& o) {
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  std::cerr << "robot: published " << o.graph << " " << publisher.value()->published()
-            << " times (" << publisher.value()->lastBytes() << " bytes each)" << std::endl;
+  std::cerr << "robot: published " << o.graph << " " << publisher.value()->published() << " times ("
+            << publisher.value()->lastBytes() << " bytes each)" << std::endl;
   return 0;
 }
 

@@ -214,7 +214,7 @@ void HydraRobots::Impl::serve(Link& l) {
 }
 
 Result<std::unique_ptr<HydraRobots>> HydraRobots::create(Station& station,
-                                                          HydraRobotsOptions options) {
+                                                         HydraRobotsOptions options) {
   if (const std::string bad = options.input.invalid(); !bad.empty())
     return Error{"Hydra robots: " + bad};
   auto impl = std::make_unique<Impl>();

@@ -58,9 +58,9 @@ size_t keepMeshIndicesInside(SceneGraph& graph) {
     if (PlaceAttributes* p = node->find<PlaceAttributes>()) indices = &p->mesh_vertices;
     if (indices == nullptr) continue;
     const size_t before = indices->size();
-    indices->erase(std::remove_if(indices->begin(), indices->end(),
-                                  [n](uint64_t v) { return v >= n; }),
-                   indices->end());
+    indices->erase(
+        std::remove_if(indices->begin(), indices->end(), [n](uint64_t v) { return v >= n; }),
+        indices->end());
     dropped += before - indices->size();
   }
   return dropped;
@@ -196,8 +196,8 @@ Result<std::optional<RobotUpdate>> HydraGraphInput::take(const io::spark::Graph&
   update.time_ns = time_ns_;
 
   const GraphDelta& d = update.graph;
-  const bool unchanged = !whole && d.nodes.empty() && d.removed_nodes.empty() &&
-                         d.edges.empty() && d.removed_edges.empty() &&
+  const bool unchanged = !whole && d.nodes.empty() && d.removed_nodes.empty() && d.edges.empty() &&
+                         d.removed_edges.empty() &&
                          d.mesh.isNoOp(graph_.mesh().vertices.size(), graph_.mesh().faces.size()) &&
                          update.pose_graph.empty() && update.deformation.points.empty() &&
                          update.descriptors.empty();
@@ -242,9 +242,9 @@ std::string HydraGraphInput::correctionOf(const SceneGraph& graph) const {
   return "";
 }
 
-HydraGraphInput::Derived HydraGraphInput::derive(
-    const SceneGraph& graph, const std::map<NodeId, std::vector<BowEntry>>& bow,
-    size_t first_vertex) {
+HydraGraphInput::Derived HydraGraphInput::derive(const SceneGraph& graph,
+                                                 const std::map<NodeId, std::vector<BowEntry>>& bow,
+                                                 size_t first_vertex) {
   Derived out;
   const std::vector<NodeId> keyframes = keyframesOf(graph);
   // Odometry between consecutive keyframes not joined yet.

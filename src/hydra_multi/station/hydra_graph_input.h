@@ -53,7 +53,7 @@ struct HydraGraphNotes {
   std::map<std::string, size_t> left_out;  ///< "frontiers (places not real)" -> count, ...
   std::optional<char> agent_prefix;        ///< the prefix the agents carried, when not the robot's
   size_t bow_refused = 0;                  ///< agents whose dbow_ids and dbow_values disagree
-  std::string correction;                  ///< why the update went whole, when it did after the first
+  std::string correction;  ///< why the update went whole, when it did after the first
 };
 
 class HydraGraphInput {

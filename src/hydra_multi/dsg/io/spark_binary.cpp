@@ -55,9 +55,11 @@ void writeMesh(Writer& w, const Mesh& m) {
 
 // The layer names Spark-DSG assumes before 1.1.0, which wrote none.
 const std::vector<std::pair<std::string, LayerKey>>& legacyLayerNames() {
-  static const std::vector<std::pair<std::string, LayerKey>> names = {
-      {"AGENTS", {2, 0}}, {"BUILDINGS", {5, 0}}, {"OBJECTS", {2, 0}}, {"PLACES", {3, 0}},
-      {"ROOMS", {4, 0}}};
+  static const std::vector<std::pair<std::string, LayerKey>> names = {{"AGENTS", {2, 0}},
+                                                                      {"BUILDINGS", {5, 0}},
+                                                                      {"OBJECTS", {2, 0}},
+                                                                      {"PLACES", {3, 0}},
+                                                                      {"ROOMS", {4, 0}}};
   return names;
 }
 
@@ -70,8 +72,8 @@ void readNodes(Reader& r, Graph& g, const std::vector<std::optional<Kind>>& kind
     try {
       Node n;
       r.fixed(4, "node");
-      n.layer = v < Version{1, 1, 0} ? static_cast<int64_t>(r.u64("node layer"))
-                                     : r.i64("node layer");
+      n.layer =
+          v < Version{1, 1, 0} ? static_cast<int64_t>(r.u64("node layer")) : r.i64("node layer");
       n.id = r.u64("node id");
       if (v < Version{1, 1, 0}) {
         if (r.peek(kNil)) {
@@ -100,8 +102,7 @@ Graph readGraph(Reader& r, Version v) {
   if (v < Version{1, 1, 2}) {
     // Layer ids were unsigned before 1.1.0.
     readVector(r, g.layer_keys, "layer ids", 9, [&](LayerKey& k) {
-      k = {v < Version{1, 1, 0} ? static_cast<int64_t>(r.u64("layer ids")) : r.i64("layer ids"),
-           0};
+      k = {v < Version{1, 1, 0} ? static_cast<int64_t>(r.u64("layer ids")) : r.i64("layer ids"), 0};
     });
   } else {
     readVector(r, g.layer_keys, "layer keys", 20,
@@ -175,9 +176,10 @@ void writeNode(Writer& w, const Graph& g, const Node& n, Version v) {
 // timestamp), in an array of their own after the others.
 Node legacyDynamic(const Node& n) {
   Node d = n;
-  if (!d.stamp_ns) d.stamp_ns = n.attributes.type == "AgentNodeAttributes"
-                                    ? n.attributes.timestamp_ns
-                                    : int64_t(n.attributes.last_update_time_ns);
+  if (!d.stamp_ns)
+    d.stamp_ns = n.attributes.type == "AgentNodeAttributes"
+                     ? n.attributes.timestamp_ns
+                     : int64_t(n.attributes.last_update_time_ns);
   return d;
 }
 
@@ -240,8 +242,8 @@ Result<Graph> decodeGraph(std::string_view bytes, size_t base, Version version, 
     Reader r(bytes, base);
     return readGraph(r, version);
   } catch (const DecodeError& e) {
-    return Error{std::string("spark binary (") + form + ", format " + version.str() + "): " +
-                 e.what()};
+    return Error{std::string("spark binary (") + form + ", format " + version.str() +
+                 "): " + e.what()};
   }
 }
 

@@ -39,7 +39,9 @@ struct Version {
   std::string str() const;
   /// "1.1.3" and the like; nullopt for anything else.
   static std::optional<Version> parse(const std::string& text);
-  constexpr uint32_t key() const { return (uint32_t(major) << 16) | (uint32_t(minor) << 8) | patch; }
+  constexpr uint32_t key() const {
+    return (uint32_t(major) << 16) | (uint32_t(minor) << 8) | patch;
+  }
   constexpr bool operator==(const Version& o) const { return key() == o.key(); }
   constexpr bool operator<(const Version& o) const { return key() < o.key(); }
   constexpr bool operator<=(const Version& o) const { return key() <= o.key(); }

@@ -295,15 +295,15 @@ void moveSparkGraph(spark::Graph& graph, const Eigen::Vector3d& offset, double y
     turn2d(a.ellipse_matrix_expand);
     spark::BoundingBox& box = a.bounding_box;
     if (box.type == 0) continue;
-    const Eigen::Vector3f c = (R * Eigen::Vector3d(box.center[0], box.center[1], box.center[2]) +
-                               offset)
-                                  .cast<float>();
+    const Eigen::Vector3f c =
+        (R * Eigen::Vector3d(box.center[0], box.center[1], box.center[2]) + offset).cast<float>();
     box.center = {c.x(), c.y(), c.z()};
     if (box.type == 1) {  // axis-aligned: the box that holds the turned one
       const Eigen::Vector3d d(box.dimensions[0], box.dimensions[1], box.dimensions[2]);
       const Eigen::Vector3f held = (R.cwiseAbs() * d).cast<float>();
       box.dimensions = {held.x(), held.y(), held.z()};
-    } else if (box.rotation.rows == 3 && box.rotation.cols == 3 && box.rotation.values.size() == 9) {
+    } else if (box.rotation.rows == 3 && box.rotation.cols == 3 &&
+               box.rotation.values.size() == 9) {
       Eigen::Matrix3d Rb;
       for (int i = 0; i < 9; ++i) Rb(i / 3, i % 3) = box.rotation.values[static_cast<size_t>(i)];
       const Eigen::Matrix3d turned = R * Rb;
@@ -313,8 +313,7 @@ void moveSparkGraph(spark::Graph& graph, const Eigen::Vector3d& offset, double y
   }
   if (graph.mesh) {
     for (auto& p : graph.mesh->points) {
-      const Eigen::Vector3f moved =
-          (R * Eigen::Vector3d(p[0], p[1], p[2]) + offset).cast<float>();
+      const Eigen::Vector3f moved = (R * Eigen::Vector3d(p[0], p[1], p[2]) + offset).cast<float>();
       p = {moved.x(), moved.y(), moved.z()};
     }
   }

@@ -166,8 +166,6 @@ void writeBox(Writer& w, const BoundingBox& b, Version v) {
   writeMatrix(w, b.rotation);
 }
 
-
-
 void readU64s(Reader& r, std::vector<uint64_t>& out, const char* what) {
   readVector(r, out, what, 9, [&](uint64_t& x) { x = r.u64(what); });
 }

@@ -20,9 +20,9 @@
 namespace hydra_multi::io::spark {
 
 // Tags (spark-dsg-wire.md §1.1).
-inline constexpr uint8_t kNil = 0xc0, kFalse = 0xc2, kTrue = 0xc3, kF32 = 0xca, kF64 = 0xcb, kU8 = 0xcc,
-                  kU32 = 0xce, kU64 = 0xcf, kI32 = 0xd2, kI64 = 0xd3, kArr32 = 0xdd, kStr32 = 0xdb,
-                  kDynamicBegin = 0x00, kDynamicEnd = 0x01;
+inline constexpr uint8_t kNil = 0xc0, kFalse = 0xc2, kTrue = 0xc3, kF32 = 0xca, kF64 = 0xcb,
+                         kU8 = 0xcc, kU32 = 0xce, kU64 = 0xcf, kI32 = 0xd2, kI64 = 0xd3,
+                         kArr32 = 0xdd, kStr32 = 0xdb, kDynamicBegin = 0x00, kDynamicEnd = 0x01;
 
 std::string tagName(uint8_t tag);
 
