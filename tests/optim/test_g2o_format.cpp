@@ -83,7 +83,8 @@ TEST(G2o, BadLinesNameFileAndLine) {
 }
 
 // Input that is not what it claims: random bytes, text with no record, an information matrix
-// that is not positive definite (2D and 3D) are refused, naming the file (and line).
+// from which no weight can be derived (2D and 3D: a block not positive definite) are refused,
+// naming the file (and line).
 TEST(G2o, RefusesWhatItCannotUse) {
   std::string bytes = "VERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\n";
   bytes += std::string("\x17\x00\x8f", 3);
@@ -99,7 +100,8 @@ TEST(G2o, RefusesWhatItCannotUse) {
       "EDGE_SE3:QUAT 0 1 0 0 0 0 0 0 1 -5 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 1\n", "i.g2o");
   ASSERT_FALSE(indefinite.ok());
   EXPECT_EQ(indefinite.error(),
-            "i.g2o:1: the information matrix is not positive definite (smallest eigenvalue -5)");
+            "i.g2o:1: the information matrix is not positive definite (smallest eigenvalue -5), "
+            "nor is its translation block: no weight can be derived from it");
   auto singular = parseG2o("EDGE_SE2 0 1 1 0 0 1 0 0 1 0 0\n", "s.g2o");
   ASSERT_FALSE(singular.ok());
   EXPECT_NE(singular.error().find("s.g2o:1: the information matrix is not positive definite"),
@@ -116,8 +118,9 @@ TEST(G2o, RefusesWhatItCannotUse) {
 }
 
 // Reading never crashes: 3000 seeded mutations of a real benchmark file are each read into
-// poses and edges the solver can use (finite, positive definite information) or refused with a
-// message naming the file.
+// poses and edges the solver can use (finite; information positive definite, or its translation
+// and rotation blocks so, with a note for each such edge) or refused with a message naming the
+// file.
 TEST(G2o, MutatedFilesAreReadOrRefused) {
   const std::string text = readFile(kData + "/pgo/tinyGrid3D.g2o").value();
   std::mt19937 rng(18);
@@ -132,10 +135,16 @@ TEST(G2o, MutatedFilesAreReadOrRefused) {
       continue;
     }
     ++read;
+    size_t odd = 0;
     for (const PoseGraphEdge& e : file.value().graph.edges) {
       ASSERT_TRUE(e.T_from_to.matrix().allFinite());
-      ASSERT_EQ(e.information.llt().info(), Eigen::Success);
+      const Eigen::Matrix3d translation = e.information.topLeftCorner<3, 3>();
+      const Eigen::Matrix3d rotation = e.information.bottomRightCorner<3, 3>();
+      ASSERT_EQ(translation.llt().info(), Eigen::Success);
+      ASSERT_EQ(rotation.llt().info(), Eigen::Success);
+      odd += e.information.llt().info() != Eigen::Success;
     }
+    ASSERT_EQ(file.value().notes.size(), odd);
     for (const auto& [id, T] : file.value().graph.poses) ASSERT_TRUE(T.matrix().allFinite());
   }
   EXPECT_GT(read, 100u);

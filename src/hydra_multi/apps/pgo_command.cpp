@@ -163,6 +163,7 @@ int runPgo(const PgoOptions& o) {
   if (!merged) return fail(merged.error());
   for (const std::string& warning : merged.value().warnings)
     std::cerr << "pgo: skipped " << warning << "\n";
+  for (const std::string& note : merged.value().notes) std::cerr << "pgo: " << note << "\n";
   const PoseGraph clean = merged.value().graph;
   if (clean.edges.empty()) return fail("pgo: the input has no edges");
   progress("loaded " + std::to_string(o.inputs.size()) +

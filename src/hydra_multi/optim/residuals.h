@@ -5,7 +5,8 @@
 // Chordal (the SE-Sync objective F of data/README.md, exactly):
 //   r = [ sqrt(tau)   * (t_j - t_i - R_i t_ij)            (3)
 //         sqrt(kappa) * vec(R_j - R_i R_ij) ]              (9)
-//   with Sigma = information^-1, tau = 3 / tr(Sigma_t), kappa = 3 / (2 tr(Sigma_R)).
+//   with Sigma = information^-1, tau = 3 / tr(Sigma_t), kappa = 3 / (2 tr(Sigma_R)) (an
+//   information that is not positive definite: its blocks' inverses, as SE-Sync's reader).
 //   Ceres minimizes 1/2 sum ||r||^2 = F / 2.
 //
 // Geodesic (eq. (3) of the paper: ||T_i^-1 T_j boxminus E_ij||^2_Omega):
@@ -23,12 +24,20 @@
 
 namespace hydra_multi {
 
-/// tau and kappa of an edge's information matrix (data/README.md).
+/// tau and kappa of an edge's information matrix (data/README.md); for one that is not positive
+/// definite, from its translation and rotation blocks as SE-Sync's reader takes them (those blocks
+/// must be positive definite: io/g2o_format.h refuses edges whose are not).
 struct IsotropicWeights {
   double kappa = 1.0;  ///< rotation
   double tau = 1.0;    ///< translation
 };
 IsotropicWeights isotropicWeights(const Matrix6d& information);
+
+/// The symmetric matrix nearest `information` whose eigenvalues are all at least
+/// kPositiveDefiniteFloor times its largest magnitude (eigenvalues clamped): the geodesic
+/// residual's weight for an information that is not positive definite.
+inline constexpr double kPositiveDefiniteFloor = 1e-6;
+Matrix6d nearestPositiveDefinite(const Matrix6d& information);
 
 class ChordalResidual {
  public:

@@ -83,29 +83,46 @@ Eigen::Matrix3d rollPitchYaw(double roll, double pitch, double yaw) {
       .toRotationMatrix();
 }
 
+template <typename M>
+bool positiveDefinite(const M& m) {
+  return m.llt().info() == Eigen::Success;
+}
+
 // An information matrix the solver can use: positive definite (a Cholesky factor exists), so
-// every residual has a weight and the cost is a sum of squares.
+// every residual has a weight and the cost is a sum of squares. One that is not, but whose
+// translation and rotation blocks (`t` x `t` first, then the rest) are, is weighed as SE-Sync
+// weighs it (residuals.h): `note` says so. One whose blocks are not either gives no weight.
 template <int N>
-void checkPositiveDefinite(const Eigen::Matrix<double, N, N>& info) {
-  if (info.llt().info() == Eigen::Success) return;
+void checkInformation(const Eigen::Matrix<double, N, N>& info, int t, std::string& note) {
+  if (positiveDefinite(info)) return;
   const double smallest =
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>>(info).eigenvalues().minCoeff();
   std::ostringstream s;
   s << "the information matrix is not positive definite (smallest eigenvalue " << smallest << ")";
-  throw std::runtime_error(s.str());
+  const Eigen::MatrixXd translation = info.topLeftCorner(t, t);
+  const Eigen::MatrixXd rotation = info.bottomRightCorner(N - t, N - t);
+  if (!positiveDefinite(translation) || !positiveDefinite(rotation)) {
+    s << ", nor is its " << (positiveDefinite(translation) ? "rotation" : "translation")
+      << " block: no weight can be derived from it";
+    throw std::runtime_error(s.str());
+  }
+  s << "; weighed by its translation and rotation blocks (SE-Sync's tau and kappa) in the chordal "
+       "solve, by its nearest positive-definite matrix in the geodesic one";
+  note = s.str();
 }
 
-Matrix6d readUpperTriangle6(LineReader& r) {
+Matrix6d readUpperTriangle6(LineReader& r, std::string& note) {
   Matrix6d info;
   for (int i = 0; i < 6; ++i) {
     for (int j = i; j < 6; ++j) info(i, j) = info(j, i) = r.number("information");
   }
-  checkPositiveDefinite(info);
+  checkInformation(info, 3, note);
   return info;
 }
 
-// Parses the values of one record (after its tag) into `graph`; false for an unknown tag.
-bool parseRecord(const std::string& tag, LineReader& r, PoseGraph& graph) {
+// Parses the values of one record (after its tag) into `graph`; false for an unknown tag. `note`
+// receives what the reader did with an odd value it kept.
+bool parseRecord(const std::string& tag, LineReader& r, PoseGraph& graph, std::string& note) {
   if (tag == "VERTEX_SE3:QUAT") {
     const NodeId id(r.id("vertex id"));
     const Eigen::Vector3d t = r.vector3("x", "y", "z");
@@ -123,7 +140,7 @@ bool parseRecord(const std::string& tag, LineReader& r, PoseGraph& graph) {
       R = readQuaternion(r).toRotationMatrix();
     }
     edge.T_from_to = makePose(t, R);
-    edge.information = readUpperTriangle6(r);
+    edge.information = readUpperTriangle6(r, note);
     graph.edges.push_back(edge);
   } else if (tag == "VERTEX3") {
     const NodeId id(r.id("vertex id"));
@@ -146,7 +163,7 @@ bool parseRecord(const std::string& tag, LineReader& r, PoseGraph& graph) {
     for (int i = 0; i < 3; ++i) {
       for (int j = i; j < 3; ++j) info2(i, j) = info2(j, i) = r.number("information");
     }
-    checkPositiveDefinite(info2);
+    checkInformation(info2, 2, note);
     edge.information.setZero();
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) edge.information(map[i], map[j]) = info2(i, j);
@@ -162,12 +179,12 @@ bool parseRecord(const std::string& tag, LineReader& r, PoseGraph& graph) {
 
 // Parses one line into the graph; returns the tag of a line this reader skips (empty for a line
 // it read or a blank one). The graph changes only when the whole line is valid.
-std::string parseLine(const std::string& line, PoseGraph& graph) {
+std::string parseLine(const std::string& line, PoseGraph& graph, std::string& note) {
   LineReader r(line);
   std::string tag;
   if (!r.word(tag) || tag[0] == '#') return "";  // blank line or comment
   PoseGraph parsed;
-  const bool known = parseRecord(tag, r, parsed);
+  const bool known = parseRecord(tag, r, parsed, note);
   if (!known) return tag;
   r.end();
   for (auto& [id, T] : parsed.poses) graph.poses[id] = T;
@@ -199,7 +216,10 @@ Result<G2oFile> parseG2o(const std::string& text, const std::string& name,
     ++line_number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     try {
-      const std::string skipped = parseLine(line, file.graph);
+      std::string note;
+      const std::string skipped = parseLine(line, file.graph, note);
+      if (!note.empty())
+        file.notes.push_back(name + ":" + std::to_string(line_number) + ": " + note);
       if (skipped.empty()) continue;
       ++file.skipped_lines;
       ++file.skipped_tags[printable(skipped)];
@@ -256,6 +276,7 @@ Result<MergedG2o> readAndMergeG2o(const std::vector<std::string>& paths,
     const PoseGraph& g = file.value().graph;
     merged.warnings.insert(merged.warnings.end(), file.value().warnings.begin(),
                            file.value().warnings.end());
+    merged.notes.insert(merged.notes.end(), file.value().notes.begin(), file.value().notes.end());
     for (const auto& [id, T] : g.poses) {
       merged.graph.poses.emplace(id, T);
       merged.node_owner.emplace(id, f);

@@ -14,8 +14,10 @@
 // pitch, which 2D data does not measure, get the largest diagonal entry of the 2D information, so
 // lifted graphs stay planar. Other tags (FIX, PARAMS_SE3OFFSET, ...) are skipped and counted, and
 // said in a warning; '#' starts a comment line. A file that is not text, or holds no vertex and no
-// edge, is refused; so is an edge whose information matrix is not positive definite (the solver
-// could not weigh it; its cost would be no sum of squares), naming file and line.
+// edge, is refused. An edge whose information matrix is not positive definite is read, weighed as
+// SE-Sync weighs it (optim/residuals.h), and named in a note with file and line; one whose
+// translation or rotation block is not positive definite either is refused (no weight can be
+// derived from it; its cost would be no sum of squares), naming file and line.
 
 #include <map>
 #include <string>
@@ -37,6 +39,9 @@ struct G2oFile {
   std::map<std::string, size_t> skipped_tags;  ///< unknown tags and their lines
   /// One per bad line skipped, naming file and line; then one for the lines of unknown tags.
   std::vector<std::string> warnings;
+  /// One per line read but weighed otherwise than as written (an edge whose information matrix
+  /// is not positive definite), naming file and line.
+  std::vector<std::string> notes;
 };
 
 /// Parses g2o/TORO text; `name` is used in messages ("<name>:<line>: ...").
@@ -51,6 +56,7 @@ struct MergedG2o {
   std::unordered_map<NodeId, size_t> node_owner;  ///< the file that owns each node (see below)
   size_t duplicate_edges = 0;                     ///< edges an earlier file already gave
   std::vector<std::string> warnings;
+  std::vector<std::string> notes;  ///< of every file (G2oFile::notes)
 };
 
 /// Reads and merges files. Poses: the first file that gives one wins. An edge between the same
