@@ -9,7 +9,7 @@ DATA ?= ../shared/data
 
 CMAKE_FLAGS = -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DHYDRA_MULTI_WERROR=$(WERROR)
 
-.PHONY: all deps build test test-sanitize demo bench bench-robust bench-sim bench-frontend bench-backend bench-journal bench-bandwidth bench-viewer bench-hydra viewer-screenshot format clean
+.PHONY: all deps build test test-sanitize demo bench bench-robust bench-sim bench-frontend bench-backend bench-journal bench-bandwidth bench-viewer bench-hydra bench-scale viewer-screenshot format clean
 
 all: build
 
@@ -67,6 +67,15 @@ bench-journal: build
 # (DATASET=DIR).
 bench-bandwidth: build
 	@$(BUILD_DIR)/bench/bench_bandwidth $(DATASET)
+
+# The station at team scale: office-3 with 2-20 robots at scales 1-3 (TEAMS="2x1 10x2 ...": a
+# subset), each simulated and run; per team graph size, backend time per round and stage,
+# frontend time, peak memory, accuracy, and backend time against graph size as SVG. Runs already
+# made are reused (REDO=1: not). The full sweep takes hours on 2 cores with today's backend.
+TEAMS ?=
+bench-scale: build
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target bench_scale -- --no-print-directory
+	@./scripts/bench_scale.sh $(BUILD_DIR)/hydra-multi $(BUILD_DIR)/bench/bench_scale out/bench-scale $(SEED) $(if $(TEAMS),"$(TEAMS)")
 
 # What the station makes of office-3 when the robots speak as Hydra robots (whole Spark-DSG graphs
 # over ZeroMQ) against our protocol and the file replay, with the bytes each sent (SEED=N,

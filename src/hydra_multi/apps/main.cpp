@@ -132,7 +132,7 @@ int main(int argc, char** argv) {
   cli.outputDirectory(simulate_cmd, "--out", simulate.out, "dataset directory (created)")
       ->required();
   cli.integer(simulate_cmd, "--robots", simulate.robots, "team size (default: the preset's)", 1,
-              10);
+              20);
   cli.real(simulate_cmd, "--scale", simulate.scale, "rooms along the corridor, times S",
            {0.25, 4.0})
       ->capture_default_str();

@@ -230,6 +230,7 @@ int runRun(const RunOptions& o) {
       {"backend_ms_p50", times.backend_ms_p50},
       {"backend_ms_max", times.backend_ms_max},
       {"backend_rounds", result.rounds.size()},
+      {"peak_memory_mb", times.peak_memory_mb},
       {"wall_s", result.wall_s},
       {"method", o.baseline.empty() ? o.ablation : o.baseline}};
   metrics.update(extra);
@@ -282,6 +283,7 @@ int runRun(const RunOptions& o) {
             << times.frontend_ms_max << " ms\n"
             << "  backend per round     median " << times.backend_ms_p50 / 1e3 << " s, max "
             << times.backend_ms_max / 1e3 << " s\n"
+            << "  peak memory           " << show(times.peak_memory_mb, 0) << " MB\n"
             << "  bandwidth             " << sent.record_bytes
             << " bytes of updates; as full resends " << sent.full_resend_bytes << " bytes, "
             << show(fullResendRatio(sent), 1) << " times more\n"

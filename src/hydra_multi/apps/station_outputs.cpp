@@ -1,5 +1,7 @@
 #include "hydra_multi/apps/station_outputs.h"
 
+#include <sys/resource.h>
+
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -18,16 +20,19 @@ Status writeStationOutputs(const std::string& dir, const StationResult& result) 
   }
   std::ofstream timing(out / "timing.csv");
   timing << "kind,index,robot,sequence,robot_time_s,ms,handoff_ms,loop_closures,nodes,poses,"
-            "factors\n";
+            "factors,alignment_ms,build_ms,gnc_ms,whole_graph_ms,graph_ms,rooms_ms\n";
   for (size_t i = 0; i < result.updates.size(); ++i) {
     const UpdateTiming& u = result.updates[i];
     timing << "update," << i << "," << u.robot.str() << "," << u.sequence << "," << u.time_ns * 1e-9
-           << "," << u.frontend_ms << "," << u.handoff_ms << "," << u.loop_closures << ",,,\n";
+           << "," << u.frontend_ms << "," << u.handoff_ms << "," << u.loop_closures
+           << ",,,,,,,,,\n";
   }
   for (const RoundTiming& r : result.rounds) {
-    timing << "backend," << r.round << ",,," << r.after_update << "," << r.report.time_s * 1e3
-           << ",," << r.report.inter_robot_inliers << "," << r.report.nodes << ","
-           << r.report.variables << "," << r.report.factors << "\n";
+    const BackendRoundReport& b = r.report;
+    timing << "backend," << r.round << ",,," << r.after_update << "," << b.time_s * 1e3 << ",,"
+           << b.inter_robot_inliers << "," << b.nodes << "," << b.variables << "," << b.factors
+           << "," << b.alignment_s * 1e3 << "," << b.build_s * 1e3 << "," << b.gnc_s * 1e3 << ","
+           << b.whole_graph_s * 1e3 << "," << b.graph_s * 1e3 << "," << b.rooms_s * 1e3 << "\n";
   }
   if (!timing) return Error{"cannot write " + (out / "timing.csv").string()};
   return Status::Ok();
@@ -79,7 +84,10 @@ StationTimes stationTimes(const StationResult& result) {
   for (const RoundTiming& r : result.rounds) backend_ms.push_back(r.report.time_s * 1e3);
   const ErrorStatistics frontend = errorStatistics(frontend_ms);
   const ErrorStatistics backend = errorStatistics(backend_ms);
-  return {frontend.median, frontend.max, backend.median, backend.max};
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return {frontend.median, frontend.max, backend.median, backend.max,
+          double(usage.ru_maxrss) / 1024.0};
 }
 
 }  // namespace hydra_multi::apps

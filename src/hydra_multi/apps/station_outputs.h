@@ -29,6 +29,7 @@ Status writeStationLoopClosures(const std::string& dir, const StationResult& res
 /// Median and maximum, for the summaries: frontend ms per update, backend ms per round.
 struct StationTimes {
   double frontend_ms_p50 = 0.0, frontend_ms_max = 0.0, backend_ms_p50 = 0.0, backend_ms_max = 0.0;
+  double peak_memory_mb = 0.0;  ///< the process's peak resident set so far (getrusage)
 };
 StationTimes stationTimes(const StationResult& result);
 

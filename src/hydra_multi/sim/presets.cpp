@@ -76,8 +76,8 @@ Result<SimulationConfig> presetConfig(const std::string& name, uint64_t seed,
     for (const std::string& n : presetNames()) known += (known.empty() ? "" : ", ") + n;
     return Error{"unknown preset '" + name + "' (known: " + known + ")"};
   }
-  if (robots && (*robots < 1 || *robots > 10))
-    return Error{"robots must be 1 to 10, not " + std::to_string(*robots)};
+  if (robots && (*robots < 1 || *robots > 20))
+    return Error{"robots must be 1 to 20, not " + std::to_string(*robots)};
   if (!(scale >= 0.25 && scale <= 4.0))
     return Error{"scale must be 0.25 to 4, not " + std::to_string(scale)};
   c.robots = robots.value_or(team);

@@ -62,7 +62,7 @@ struct SimulationConfig {
 
 std::vector<std::string> presetNames();
 
-/// The configuration of a preset; `robots` (1 to 10) and `scale` (0.25 to 4) override its team
+/// The configuration of a preset; `robots` (1 to 20) and `scale` (0.25 to 4) override its team
 /// size and building length. An unknown name or a bad number is an error that says which.
 Result<SimulationConfig> presetConfig(const std::string& name, uint64_t seed,
                                       std::optional<int> robots = std::nullopt, double scale = 1.0);

@@ -1,0 +1,162 @@
+// The station at team scale (issue 22): for each run folder of `run` (metrics.json, timing.csv),
+// the final graph's size, the backend's time per round (median, max) and per stage (the last
+// round's, and each stage's share of all rounds), the frontend's time per update, the peak memory
+// and the accuracy; and a plot of every round's backend time against the deformation graph's
+// poses, one colour per team. Build in Release (`make bench-scale` runs the teams first).
+//
+//   bench_scale OUT.svg LABEL=RUN_DIR [LABEL=RUN_DIR ...]
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "hydra_multi/eval/trials_report.h"
+
+using namespace hydra_multi;
+
+namespace {
+
+struct Round {
+  double ms = 0, poses = 0, factors = 0, nodes = 0;
+  std::vector<double> stages_ms;  // alignment, build, gnc, whole graph, graph, rooms
+};
+
+struct Team {
+  std::string label;
+  nlohmann::json metrics;
+  std::vector<Round> rounds;
+  std::vector<double> frontend_ms;
+};
+
+const std::vector<std::string> kStages = {"alignment", "proposals+assembly", "GNC",
+                                          "whole graph", "backend graph", "rooms"};
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+bool readTeam(const std::string& label, const std::string& dir, Team& team, std::string& error) {
+  team.label = label;
+  std::ifstream metrics(dir + "/metrics.json");
+  team.metrics = nlohmann::json::parse(metrics, nullptr, false);
+  if (team.metrics.is_discarded() || !team.metrics.is_object()) {
+    error = dir + "/metrics.json: not a JSON object (did the run finish?)";
+    return false;
+  }
+  std::ifstream timing(dir + "/timing.csv");
+  std::string line;
+  std::getline(timing, line);
+  while (std::getline(timing, line)) {
+    std::vector<std::string> cells;
+    std::stringstream s(line);
+    for (std::string cell; std::getline(s, cell, ',');) cells.push_back(cell);
+    if (cells.size() >= 6 && cells[0] == "update") team.frontend_ms.push_back(std::stod(cells[5]));
+    if (cells.size() >= 17 && cells[0] == "backend") {
+      Round r;
+      r.ms = std::stod(cells[5]);
+      r.nodes = std::stod(cells[8]);
+      r.poses = std::stod(cells[9]);
+      r.factors = std::stod(cells[10]);
+      for (size_t k = 11; k < 17; ++k) r.stages_ms.push_back(std::stod(cells[k]));
+      team.rounds.push_back(r);
+    }
+  }
+  if (team.rounds.empty()) {
+    error = dir + "/timing.csv: no backend round with its stages (a run of an older build?)";
+    return false;
+  }
+  return true;
+}
+
+double number(const nlohmann::json& j, const char* key) {
+  return j.contains(key) && j[key].is_number() ? j[key].get<double>() : std::nan("");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: bench_scale OUT.svg LABEL=RUN_DIR [LABEL=RUN_DIR ...]\n");
+    return 2;
+  }
+  std::vector<Team> teams;
+  for (int i = 2; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const size_t eq = arg.find('=');
+    if (eq == std::string::npos) {
+      std::fprintf(stderr, "bench_scale: '%s' is not LABEL=RUN_DIR\n", arg.c_str());
+      return 2;
+    }
+    Team team;
+    std::string error;
+    if (!readTeam(arg.substr(0, eq), arg.substr(eq + 1), team, error)) {
+      std::fprintf(stderr, "bench_scale: %s\n", error.c_str());
+      return 1;
+    }
+    teams.push_back(std::move(team));
+  }
+  std::printf(
+      "| team | robots aligned | final poses / factors / nodes | backend rounds | round median "
+      "/ max (s) | frontend per update median / max (ms) | peak memory (MB) | ATE (m) | objects "
+      "found (%%) |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
+  for (const Team& t : teams) {
+    std::vector<double> ms;
+    for (const Round& r : t.rounds) ms.push_back(r.ms);
+    const Round& last = t.rounds.back();
+    std::printf("| %s | %.0f of %.0f | %.0f / %.0f / %.0f | %zu | %.2f / %.2f | %.1f / %.1f | %.0f | "
+                "%.3f | %.1f |\n",
+                t.label.c_str(), number(t.metrics, "robots_aligned"), number(t.metrics, "robots"),
+                last.poses, last.factors, last.nodes, t.rounds.size(), median(ms) / 1e3,
+                *std::max_element(ms.begin(), ms.end()) / 1e3, median(t.frontend_ms),
+                t.frontend_ms.empty()
+                    ? 0.0
+                    : *std::max_element(t.frontend_ms.begin(), t.frontend_ms.end()),
+                number(t.metrics, "peak_memory_mb"), number(t.metrics, "ate_rmse_m"),
+                number(t.metrics, "objects_found_pct"));
+  }
+  std::printf("\nWhere the backend's time went: the last round's stages in s, and (in brackets) each "
+              "stage's share of all rounds' time\n\n| team |");
+  for (const std::string& s : kStages) std::printf(" %s |", s.c_str());
+  std::printf("\n| --- |");
+  for (size_t k = 0; k < kStages.size(); ++k) std::printf(" --- |");
+  std::printf("\n");
+  for (const Team& t : teams) {
+    std::vector<double> total(kStages.size(), 0.0);
+    double all = 0.0;
+    for (const Round& r : t.rounds) {
+      for (size_t k = 0; k < kStages.size(); ++k) total[k] += r.stages_ms[k];
+      all += r.ms;
+    }
+    std::printf("| %s |", t.label.c_str());
+    for (size_t k = 0; k < kStages.size(); ++k)
+      std::printf(" %.2f (%.0f %%) |", t.rounds.back().stages_ms[k] / 1e3,
+                  all > 0 ? 100.0 * total[k] / all : 0.0);
+    std::printf("\n");
+  }
+  // Every round's time against the graph's size, a colour per team.
+  std::vector<TrialRun> runs;
+  std::vector<std::string> labels;
+  for (const Team& t : teams) {
+    TrialRun run;
+    run.method = t.label;
+    for (const Round& r : t.rounds) run.rounds.push_back({r.poses, r.ms / 1e3});
+    runs.push_back(run);
+    labels.push_back(t.label);
+  }
+  std::ofstream svg(argv[1]);
+  svg << backendTimeSvg(runs, labels);
+  if (!svg) {
+    std::fprintf(stderr, "bench_scale: cannot write %s\n", argv[1]);
+    return 1;
+  }
+  std::printf("\nbackend time against graph size: %s\n", argv[1]);
+  return 0;
+}
