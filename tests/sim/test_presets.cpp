@@ -63,7 +63,8 @@ TEST(Presets, NamesAndErrors) {
   EXPECT_NE(unknown.error().find("unknown preset 'castle'"), std::string::npos);
   EXPECT_NE(unknown.error().find("office-3"), std::string::npos);
   EXPECT_FALSE(presetConfig("tiny", 1, 0).ok());
-  EXPECT_FALSE(presetConfig("tiny", 1, 11).ok());
+  EXPECT_TRUE(presetConfig("office-3", 1, 20).ok());
+  EXPECT_FALSE(presetConfig("tiny", 1, 21).ok());
   EXPECT_FALSE(presetConfig("tiny", 1, std::nullopt, 10.0).ok());
 }
 
