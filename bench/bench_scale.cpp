@@ -34,8 +34,8 @@ struct Team {
   std::vector<double> frontend_ms;
 };
 
-const std::vector<std::string> kStages = {"alignment", "proposals+assembly", "GNC",
-                                          "whole graph", "backend graph", "rooms"};
+const std::vector<std::string> kStages = {"alignment",   "proposals+assembly", "GNC",
+                                          "whole graph", "backend graph",      "rooms"};
 
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
@@ -111,19 +111,19 @@ int main(int argc, char** argv) {
     std::vector<double> ms;
     for (const Round& r : t.rounds) ms.push_back(r.ms);
     const Round& last = t.rounds.back();
-    std::printf("| %s | %.0f of %.0f | %.0f / %.0f / %.0f | %zu | %.2f / %.2f | %.1f / %.1f | %.0f | "
-                "%.3f | %.1f |\n",
-                t.label.c_str(), number(t.metrics, "robots_aligned"), number(t.metrics, "robots"),
-                last.poses, last.factors, last.nodes, t.rounds.size(), median(ms) / 1e3,
-                *std::max_element(ms.begin(), ms.end()) / 1e3, median(t.frontend_ms),
-                t.frontend_ms.empty()
-                    ? 0.0
-                    : *std::max_element(t.frontend_ms.begin(), t.frontend_ms.end()),
-                number(t.metrics, "peak_memory_mb"), number(t.metrics, "ate_rmse_m"),
-                number(t.metrics, "objects_found_pct"));
+    std::printf(
+        "| %s | %.0f of %.0f | %.0f / %.0f / %.0f | %zu | %.2f / %.2f | %.1f / %.1f | %.0f | "
+        "%.3f | %.1f |\n",
+        t.label.c_str(), number(t.metrics, "robots_aligned"), number(t.metrics, "robots"),
+        last.poses, last.factors, last.nodes, t.rounds.size(), median(ms) / 1e3,
+        *std::max_element(ms.begin(), ms.end()) / 1e3, median(t.frontend_ms),
+        t.frontend_ms.empty() ? 0.0 : *std::max_element(t.frontend_ms.begin(), t.frontend_ms.end()),
+        number(t.metrics, "peak_memory_mb"), number(t.metrics, "ate_rmse_m"),
+        number(t.metrics, "objects_found_pct"));
   }
-  std::printf("\nWhere the backend's time went: the last round's stages in s, and (in brackets) each "
-              "stage's share of all rounds' time\n\n| team |");
+  std::printf(
+      "\nWhere the backend's time went: the last round's stages in s, and (in brackets) each "
+      "stage's share of all rounds' time\n\n| team |");
   for (const std::string& s : kStages) std::printf(" %s |", s.c_str());
   std::printf("\n| --- |");
   for (size_t k = 0; k < kStages.size(); ++k) std::printf(" --- |");

@@ -13,6 +13,7 @@
 #include "hydra_multi/optim/io/g2o_format.h"
 #include "hydra_multi/optim/pose_graph_optimizer.h"
 #include "hydra_multi/optim/residuals.h"
+#include "support/random_graphs.h"
 
 namespace hydra_multi {
 namespace {
@@ -113,16 +114,7 @@ TEST(OddInformation, TheChordalSolveWeighsItByItsBlocksAsSESyncDoes) {
 // 0 (before, the chordal solve's weights were not numbers and the geodesic one stopped short).
 TEST(OddInformation, BothSolvesReachTheOptimumOfExactData) {
   std::mt19937 rng(91);
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  std::map<NodeId, Eigen::Isometry3d> truth;
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  for (int i = 0; i < 30; ++i) {
-    truth[NodeId('x', static_cast<uint64_t>(i))] = T;
-    Vector6d step;
-    step << 1.0, 0.2 * gauss(rng), 0.1 * gauss(rng), 0.05 * gauss(rng), 0.05 * gauss(rng),
-        0.3 * gauss(rng);
-    T = T * expSE3(step);
-  }
+  std::map<NodeId, Eigen::Isometry3d> truth = testing::randomTrajectory(rng, 30);
   PoseGraph g;
   g.poses = truth;
   size_t odd = 0;
@@ -142,14 +134,8 @@ TEST(OddInformation, BothSolvesReachTheOptimumOfExactData) {
   EXPECT_EQ(read.value().notes.size(), odd);
   const PoseGraph& graph = read.value().graph;
   const NodeId anchor('x', 0);
-  std::map<NodeId, Eigen::Isometry3d> perturbed = graph.poses;
-  std::normal_distribution<double> small(0.0, 0.05);
-  for (auto& [id, pose] : perturbed) {
-    if (id == anchor) continue;
-    Vector6d xi;
-    for (int k = 0; k < 6; ++k) xi[k] = small(rng);
-    pose = pose * expSE3(xi);
-  }
+  const std::map<NodeId, Eigen::Isometry3d> perturbed =
+      testing::perturbPoses(graph.poses, anchor, 0.05, rng);
   for (const ResidualType type : {ResidualType::kChordal, ResidualType::kGeodesic}) {
     PoseGraphOptimizerOptions options;
     options.residual = type;

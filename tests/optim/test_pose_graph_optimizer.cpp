@@ -14,15 +14,7 @@ namespace {
 PoseGraph syntheticGraph(std::mt19937& rng, int n, double noise,
                          std::map<NodeId, Eigen::Isometry3d>& truth) {
   std::normal_distribution<double> gauss(0.0, 1.0);
-  truth.clear();
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  for (int i = 0; i < n; ++i) {
-    truth[NodeId('x', static_cast<uint64_t>(i))] = T;
-    Vector6d step;
-    step << 1.0, 0.2 * gauss(rng), 0.1 * gauss(rng), 0.05 * gauss(rng), 0.05 * gauss(rng),
-        0.3 * gauss(rng);
-    T = T * expSE3(step);
-  }
+  truth = testing::randomTrajectory(rng, n);
   PoseGraph g;
   auto addEdge = [&](int a, int b) {
     PoseGraphEdge e;
@@ -52,14 +44,8 @@ TEST(PoseGraphOptimizer, RecoversTruthFromExactData) {
   for (const auto& [id, T] : truth)
     EXPECT_LT((init.value().at(id).matrix() - T.matrix()).norm(), 1e-9);
 
-  std::map<NodeId, Eigen::Isometry3d> perturbed = truth;
-  std::normal_distribution<double> gauss(0.0, 0.05);
-  for (auto& [id, T] : perturbed) {
-    if (id == anchor) continue;
-    Vector6d xi;
-    for (int k = 0; k < 6; ++k) xi[k] = gauss(rng);
-    T = T * expSE3(xi);
-  }
+  const std::map<NodeId, Eigen::Isometry3d> perturbed =
+      testing::perturbPoses(truth, anchor, 0.05, rng);
   for (const ResidualType type : {ResidualType::kGeodesic, ResidualType::kChordal}) {
     PoseGraphOptimizerOptions options;
     options.residual = type;

@@ -1,5 +1,7 @@
 #include "support/random_graphs.h"
 
+#include "hydra_multi/core/se3.h"
+
 namespace hydra_multi::testing {
 namespace {
 
@@ -159,5 +161,31 @@ RobotUpdate makeRandomUpdate(std::mt19937& rng, uint64_t sequence) {
 }
 
 std::string dataDir() { return HYDRA_MULTI_DATA_DIR; }
+
+std::map<NodeId, Eigen::Isometry3d> randomTrajectory(std::mt19937& rng, int n) {
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::map<NodeId, Eigen::Isometry3d> poses;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  for (int i = 0; i < n; ++i) {
+    poses[NodeId('x', static_cast<uint64_t>(i))] = T;
+    Vector6d step;
+    step << 1.0, 0.2 * gauss(rng), 0.1 * gauss(rng), 0.05 * gauss(rng), 0.05 * gauss(rng),
+        0.3 * gauss(rng);
+    T = T * expSE3(step);
+  }
+  return poses;
+}
+
+std::map<NodeId, Eigen::Isometry3d> perturbPoses(std::map<NodeId, Eigen::Isometry3d> poses,
+                                                 NodeId anchor, double sigma, std::mt19937& rng) {
+  std::normal_distribution<double> gauss(0.0, sigma);
+  for (auto& [id, T] : poses) {
+    if (id == anchor) continue;
+    Vector6d xi;
+    for (int k = 0; k < 6; ++k) xi[k] = gauss(rng);
+    T = T * expSE3(xi);
+  }
+  return poses;
+}
 
 }  // namespace hydra_multi::testing

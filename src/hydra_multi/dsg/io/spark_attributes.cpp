@@ -40,26 +40,35 @@ void writePlace2dShape(Writer& w, const Attributes& a) {
   writeMatrix(w, a.ellipse_matrix_expand);
 }
 
-// A 2D place up to 1.1.3.
-void readPlace2d113(Reader& r, Attributes& a) {
-  readPlace2dShape(r, a);
-  readU64s(r, a.pcl_boundary_connections, "pcl_boundary_connections");
+// What places and (up to 1.1.3) 2D places hold of the mesh: nearest voxblox vertices, mesh
+// vertices, their labels, deformation-graph vertices.
+void readMeshLinks(Reader& r, Attributes& a) {
   readVector(r, a.voxblox_mesh_connections, "voxblox_mesh_connections", 40,
              [&](NearestVertex& n) { readNearest(r, n); });
   readU64s(r, a.pcl_mesh_connections, "pcl_mesh_connections");
   readVector(r, a.mesh_vertex_labels, "mesh_vertex_labels", 2,
              [&](uint8_t& x) { x = r.u8("mesh_vertex_labels"); });
   readU64s(r, a.deformation_connections, "deformation_connections");
+}
+void writeMeshLinks(Writer& w, const Attributes& a) {
+  writeVector(w, a.voxblox_mesh_connections, [&](const NearestVertex& n) { writeNearest(w, n); });
+  writeU64s(w, a.pcl_mesh_connections);
+  writeVector(w, a.mesh_vertex_labels, [&](uint8_t x) { w.u8(x); });
+  writeU64s(w, a.deformation_connections);
+}
+
+// A 2D place up to 1.1.3.
+void readPlace2d113(Reader& r, Attributes& a) {
+  readPlace2dShape(r, a);
+  readU64s(r, a.pcl_boundary_connections, "pcl_boundary_connections");
+  readMeshLinks(r, a);
   a.need_cleanup_splitting = r.boolean("need_cleanup_splitting");
   a.has_active_mesh_indices = r.boolean("has_active_mesh_indices");
 }
 void writePlace2d113(Writer& w, const Attributes& a) {
   writePlace2dShape(w, a);
   writeU64s(w, a.pcl_boundary_connections);
-  writeVector(w, a.voxblox_mesh_connections, [&](const NearestVertex& n) { writeNearest(w, n); });
-  writeU64s(w, a.pcl_mesh_connections);
-  writeVector(w, a.mesh_vertex_labels, [&](uint8_t x) { w.u8(x); });
-  writeU64s(w, a.deformation_connections);
+  writeMeshLinks(w, a);
   w.boolean(a.need_cleanup_splitting);
   w.boolean(a.has_active_mesh_indices);
 }
@@ -97,12 +106,7 @@ void readFields(Reader& r, Attributes& a, Kind kind, Version v) {
     case Kind::kPlace:
       a.distance = r.f64("distance");
       a.num_basis_points = r.u32("num_basis_points");
-      readVector(r, a.voxblox_mesh_connections, "voxblox_mesh_connections", 40,
-                 [&](NearestVertex& v) { readNearest(r, v); });
-      readU64s(r, a.pcl_mesh_connections, "pcl_mesh_connections");
-      readVector(r, a.mesh_vertex_labels, "mesh_vertex_labels", 2,
-                 [&](uint8_t& x) { x = r.u8("mesh_vertex_labels"); });
-      readU64s(r, a.deformation_connections, "deformation_connections");
+      readMeshLinks(r, a);
       a.real_place = r.boolean("real_place");
       if (v <= Version{1, 0, 3}) a.predicted_place = r.boolean("predicted_place");
       a.active_frontier = r.boolean("active_frontier");
@@ -172,11 +176,7 @@ void writeFields(Writer& w, const Attributes& a, Kind kind, Version v) {
     case Kind::kPlace:
       w.f64(a.distance);
       w.u32(a.num_basis_points);
-      writeVector(w, a.voxblox_mesh_connections,
-                  [&](const NearestVertex& v) { writeNearest(w, v); });
-      writeU64s(w, a.pcl_mesh_connections);
-      writeVector(w, a.mesh_vertex_labels, [&](uint8_t x) { w.u8(x); });
-      writeU64s(w, a.deformation_connections);
+      writeMeshLinks(w, a);
       w.boolean(a.real_place);
       if (v <= Version{1, 0, 3}) w.boolean(a.predicted_place);
       w.boolean(a.active_frontier);
