@@ -270,6 +270,14 @@ int runStationCommand(const StationCommandOptions& o) {
   const net::StationServerCounts& counts = server.value()->counts();
   const StationTimes times = stationTimes(result);
   nlohmann::ordered_json robots = nlohmann::ordered_json::object();
+  // What a robot's updates cost, from the journal (bandwidth.csv's totals).
+  const auto addBandwidth = [&sent](RobotId robot, nlohmann::ordered_json& entry) {
+    if (const auto t = sent.find(robot); t != sent.end()) {
+      entry["update_bytes"] = t->second.wire_bytes;
+      entry["update_record_bytes"] = t->second.record_bytes;
+      entry["full_resend_bytes"] = t->second.full_resend_bytes;
+    }
+  };
   size_t duplicates = 0;
   for (const auto& [robot, c] : counts.robots) {
     robots[robot.str()] = {{"updates", c.updates},
@@ -280,11 +288,7 @@ int runStationCommand(const StationCommandOptions& o) {
                            {"bytes", c.bytes},
                            {"said_bye", c.said_bye},
                            {"next_sequence", c.next_sequence}};
-    if (const auto t = sent.find(robot); t != sent.end()) {
-      robots[robot.str()]["update_bytes"] = t->second.wire_bytes;
-      robots[robot.str()]["update_record_bytes"] = t->second.record_bytes;
-      robots[robot.str()]["full_resend_bytes"] = t->second.full_resend_bytes;
-    }
+    addBandwidth(robot, robots[robot.str()]);
     duplicates += c.duplicates;
   }
   size_t hydra_graphs = 0, hydra_bytes = 0, hydra_refused = 0;
@@ -300,11 +304,7 @@ int runStationCommand(const StationCommandOptions& o) {
                                       {"snapshots", c.snapshots},
                                       {"next_sequence", c.next_sequence},
                                       {"last_graph_bytes", c.last_bytes}};
-      if (const auto t = sent.find(robot); t != sent.end()) {
-        entry["update_bytes"] = t->second.wire_bytes;
-        entry["update_record_bytes"] = t->second.record_bytes;
-        entry["full_resend_bytes"] = t->second.full_resend_bytes;
-      }
+      addBandwidth(robot, entry);
       robots[robot.str()] = entry;
       hydra_graphs += c.graphs;
       hydra_bytes += c.bytes;

@@ -249,7 +249,7 @@ HydraGraphInput::Derived HydraGraphInput::derive(const SceneGraph& graph,
   const std::vector<NodeId> keyframes = keyframesOf(graph);
   // Odometry between consecutive keyframes not joined yet.
   for (const NodeId k : keyframes) {
-    if (!chain_.empty() && chain_poses_.count(k)) continue;
+    if (chain_poses_.count(k)) continue;
     const Eigen::Isometry3d pose = nodePose(graph.getNode(k));
     if (!chain_.empty()) {
       PoseGraphEdge e;
