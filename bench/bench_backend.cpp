@@ -1,9 +1,12 @@
 // Backend benchmark: the frontend (processor and loop-closure detector) over a whole dataset
 // without a backend, then backend rounds on the final state, with the time of every stage
-// (alignment, graph assembly, GNC, the whole-graph solve, the backend graph, rooms) and the size
-// of the deformation graph. Build in Release (`make bench-backend`).
+// (alignment, graph assembly, GNC, the whole-graph solve, the backend graph, rooms), the size
+// of the deformation graph, the loop closures taken as decided from the last round and those
+// decided again, and the Ceres solves. With --every K, a round also runs after every K updates,
+// as an online station whose backend keeps up would run them. Build in Release (`make
+// bench-backend`).
 //
-//   bench_backend DATASET_DIR [--rounds N] [--config FILE] [--verbose]
+//   bench_backend DATASET_DIR [--rounds N] [--every K] [--config FILE] [--verbose]
 
 #include <algorithm>
 #include <chrono>
@@ -20,14 +23,18 @@ using namespace hydra_multi;
 int main(int argc, char** argv) {
   if (argc < 2 || argv[1][0] == '-') {
     std::fprintf(stderr,
-                 "usage: bench_backend DATASET_DIR [--rounds N] [--config FILE] [--verbose]\n");
+                 "usage: bench_backend DATASET_DIR [--rounds N] [--every K] [--config FILE] "
+                 "[--verbose]\n");
     return 2;
   }
   int rounds = 1;
+  size_t every = 0;
   StationOptions options;
   for (int i = 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--rounds") == 0 && i + 1 < argc) {
       rounds = std::max(1, std::atoi(argv[++i]));
+    } else if (std::strcmp(argv[i], "--every") == 0 && i + 1 < argc) {
+      every = static_cast<size_t>(std::max(1, std::atoi(argv[++i])));
     } else if (std::strcmp(argv[i], "--config") == 0 && i + 1 < argc) {
       if (Status s = loadStationConfig(argv[++i], options); !s) {
         std::fprintf(stderr, "error: %s\n", s.message().c_str());
@@ -47,38 +54,57 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "error: %s\n", streams.error().c_str());
     return 1;
   }
-  const auto t0 = std::chrono::steady_clock::now();
-  SceneGraphProcessor processor;
-  LoopClosureDetector detector;
-  for (const RobotUpdate& update : streams.value().updates) {
-    const UpdateReport report = processor.process(update);
-    if (report.outcome == UpdateOutcome::kApplied) detector.update(processor, report.new_keyframes);
-  }
-  detector.flush(processor);
-  const double frontend_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const std::vector<PoseGraphEdge> inter = interRobotEdges(detector.loopClosures());
-  std::vector<BackendRobot> robots;
-  for (const RobotId r : processor.robots()) {
-    const RobotFrontendState* state = processor.robot(r);
-    robots.push_back(
-        {r, &state->pose_graph, &state->control_points, &state->control_point_edges, &state->mesh});
-  }
-  std::printf("%s: %zu updates, frontend %.1f s, %zu inter-robot loop closures\n", argv[1],
-              streams.value().updates.size(), frontend_s, inter.size());
-  std::printf("round  aligned  poses  factors  nodes  kept/lc  merges  align_s  build_s    gnc_s  "
-              "whole_s  graph_s  rooms_s  total_s\n");
-  Backend backend(options.backend);
   const RobotId root =
       *std::min_element(streams.value().robots.begin(), streams.value().robots.end());
-  for (int i = 0; i < rounds; ++i) {
+  SceneGraphProcessor processor;
+  LoopClosureDetector detector;
+  Backend backend(options.backend);
+  std::vector<BackendRobot> robots;
+  const auto runRound = [&](const std::string& name) {
+    robots.clear();
+    for (const RobotId r : processor.robots()) {
+      const RobotFrontendState* state = processor.robot(r);
+      robots.push_back({r, &state->pose_graph, &state->control_points,
+                        &state->control_point_edges, &state->mesh});
+    }
+    const std::vector<PoseGraphEdge> inter = interRobotEdges(detector.loopClosures());
     const BackendRoundReport r = backend.round(processor.graph(), robots, inter, root);
-    std::printf("%5d  %3zu/%-3zu  %5zu  %7zu  %5zu  %3zu/%-3zu  %3zu/%-3zu  %7.2f  %7.2f  %7.2f  "
-                "%7.2f  %7.2f  %7.2f  %7.2f\n",
-                i, r.robots_aligned, r.robots, r.variables, r.factors, r.nodes,
+    std::printf("%7s  %3zu/%-3zu  %5zu  %7zu  %5zu  %4zu/%-4zu  %4zu/%-4zu  %5zu/%-3zu  %6d  %7.2f  "
+                "%7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %7.2f\n",
+                name.c_str(), r.robots_aligned, r.robots, r.variables, r.factors, r.nodes,
                 r.inter_robot_inliers, r.inter_robot_loop_closures, r.merges_accepted,
-                r.merges_proposed, r.alignment_s, r.build_s, r.gnc_s, r.whole_graph_s, r.graph_s,
-                r.rooms_s, r.time_s);
+                r.merges_proposed, r.loop_closures_known, r.loop_closures_redecided, r.solves,
+                r.alignment_s, r.build_s, r.gnc_s, r.whole_graph_s, r.graph_s, r.rooms_s,
+                r.time_s);
+    std::fflush(stdout);
+    return r.time_s;
+  };
+  const char* header =
+      "  round  aligned  poses  factors  nodes  kept/lc    merges     known/redo  solves  "
+      "align_s  build_s    gnc_s  whole_s  graph_s  rooms_s  total_s\n";
+  if (every > 0) std::printf("%s", header);
+  const auto t0 = std::chrono::steady_clock::now();
+  double online_s = 0.0;
+  size_t applied = 0, online_rounds = 0;
+  for (const RobotUpdate& update : streams.value().updates) {
+    const UpdateReport report = processor.process(update);
+    if (report.outcome != UpdateOutcome::kApplied) continue;
+    detector.update(processor, report.new_keyframes);
+    if (every > 0 && ++applied % every == 0) {
+      online_s += runRound("u" + std::to_string(applied));
+      ++online_rounds;
+    }
   }
+  detector.flush(processor);
+  const double total_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("%s: %zu updates, frontend %.1f s, %zu inter-robot loop closures\n", argv[1],
+              streams.value().updates.size(), total_s - online_s,
+              interRobotEdges(detector.loopClosures()).size());
+  if (online_rounds > 0)
+    std::printf("online: %zu rounds, %.1f s, %.2f s per round\n", online_rounds, online_s,
+                online_s / double(online_rounds));
+  std::printf("%s", header);
+  for (int i = 0; i < rounds; ++i) runRound(std::to_string(i));
   return 0;
 }

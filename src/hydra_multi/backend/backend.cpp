@@ -56,6 +56,10 @@ SolvedNodes solvedNodes(const SceneGraph& frontend,
   return nodes;
 }
 
+bool sameTransform(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return (a.matrix() - b.matrix()).cwiseAbs().maxCoeff() < 1e-9;
+}
+
 }  // namespace
 
 MergeSideFinder::MergeSideFinder(const SceneGraph& frontend, RobotId robot, const Mesh* mesh,
@@ -85,6 +89,37 @@ AcceptedMerge::Side MergeSideFinder::side(NodeId id) const {
   s.keyframe_stamp_ns = keyframe.find<AgentAttributes>()->timestamp_ns;
   s.T_robot_keyframe = nodePose(keyframe);
   return s;
+}
+
+void Backend::rememberForNextRound(const SceneGraph& frontend, const DeformationGraph& graph,
+                                   const DeformationResult& result,
+                                   const std::vector<PoseGraphEdge>& merges,
+                                   const std::map<RobotId, Eigen::Isometry3d>& T_global_robot) {
+  corrections_.clear();
+  latest_corrections_.clear();
+  last_verdicts_.clear();
+  last_alignment_ = T_global_robot;
+  if (!options_.incremental) return;
+  for (const auto& [id, pose] : result.poses) {
+    const auto initial = graph.initial.find(id);
+    if (initial != graph.initial.end()) corrections_[id] = pose * initial->second.inverse();
+  }
+  for (const auto& [robot, T] : T_global_robot) {
+    int64_t latest = std::numeric_limits<int64_t>::min();
+    for (const NodeId id : frontend.nodesOfRobot(robot)) {
+      const AgentAttributes* agent = frontend.getNode(id).find<AgentAttributes>();
+      const auto correction = corrections_.find(id);
+      if (agent == nullptr || correction == corrections_.end() || agent->timestamp_ns < latest)
+        continue;
+      latest = agent->timestamp_ns;
+      latest_corrections_[robot] = correction->second;
+    }
+  }
+  std::set<std::pair<NodeId, NodeId>> merge_factors;
+  for (const PoseGraphEdge& e : merges) merge_factors.insert({e.from, e.to});
+  for (const auto& [edge, inlier] : result.robust_inlier) {
+    if (!merge_factors.count(edge)) last_verdicts_[edge] = inlier;
+  }
 }
 
 BackendRoundReport Backend::round(const SceneGraph& frontend,
@@ -148,15 +183,48 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   }
   // Reconciliation proposals, on the map the loop closures alone optimize (the skeleton's
   // solve): drift no longer separates two robots' copies of a place there.
+  // Incremental rounds: where the last round left the robots whose alignment it shares.
+  const auto lastRound = [&](const DeformationGraph& graph) {
+    DeformationWarmStart warm;
+    if (!options_.incremental) return warm;
+    std::set<RobotId> kept;
+    for (const auto& [robot, T] : T_global_robot) {
+      const auto last = last_alignment_.find(robot);
+      if (last != last_alignment_.end() && sameTransform(last->second, T)) kept.insert(robot);
+    }
+    const auto ofKept = [&kept](NodeId id) {
+      const auto robot = id.sourceRobot();
+      return robot && kept.count(*robot) != 0;
+    };
+    for (const auto& [id, initial] : graph.skeleton.poses) {
+      if (!ofKept(id)) continue;
+      const auto own = corrections_.find(id);
+      if (own != corrections_.end()) {
+        warm.poses[id] = own->second * initial;
+      } else if (const auto latest = latest_corrections_.find(*id.sourceRobot());
+                 latest != latest_corrections_.end()) {
+        warm.poses[id] = latest->second * initial;
+      }
+    }
+    for (const auto& [edge, inlier] : last_verdicts_) {
+      if (ofKept(edge.first) && ofKept(edge.second)) warm.verdicts[edge] = inlier;
+    }
+    report.loop_closures_known = warm.verdicts.size();
+    return warm;
+  };
   std::vector<MergeCandidate> candidates;
-  std::map<NodeId, Eigen::Isometry3d> solved_poses;
+  DeformationWarmStart after_loop_closures;
   if (options_.reconcile && joint) {
     const DeformationGraph first =
         buildDeformationGraph(frontend, inputs, loop_closures, {}, options_.deformation);
     DeformationGraphOptions skeleton = options_.deformation;
     skeleton.final_iterations = 0;
-    const DeformationResult solved = optimizeDeformationGraph(first, skeleton, held_out);
-    solved_poses = solved.poses;
+    const DeformationWarmStart warm = lastRound(first);
+    const DeformationResult solved = optimizeDeformationGraph(first, skeleton, held_out, &warm);
+    report.loop_closures_redecided += solved.solve.known_contradicted;
+    report.solves += solved.solve.solves;
+    after_loop_closures.poses = solved.poses;
+    if (options_.incremental) after_loop_closures.verdicts = solved.robust_inlier;
     const SolvedNodes nodes =
         solvedNodes(frontend, inputs, first, solved, options_.deformation.link_max_dt_s);
     candidates = refineObjectMerges(
@@ -176,8 +244,12 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   if (options_.hold_out_merges) {
     for (const PoseGraphEdge& e : merges) held_out.insert({e.from, e.to});
   }
-  const DeformationResult result = optimizeDeformationGraph(
-      dg, options_.deformation, held_out, solved_poses.empty() ? nullptr : &solved_poses);
+  const DeformationWarmStart warm =
+      after_loop_closures.poses.empty() ? lastRound(dg) : after_loop_closures;
+  const DeformationResult result = optimizeDeformationGraph(dg, options_.deformation, held_out,
+                                                            warm.poses.empty() ? nullptr : &warm);
+  report.loop_closures_redecided += result.solve.known_contradicted;
+  report.solves += result.solve.solves + (result.whole_graph_s > 0.0 ? 1 : 0);
   report.whole_graph_s = result.whole_graph_s;
   report.gnc_s = lap() - result.whole_graph_s;
   inliers_.clear();
@@ -198,6 +270,7 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   }
   for (const auto& [edge, kept] : inliers_)
     verdicts_.push_back({edge.first, edge.second, true, kept});
+  rememberForNextRound(frontend, dg, result, merges, T_global_robot);
 
   // 3. The backend graph.
   SceneGraph graph;

@@ -62,6 +62,13 @@ struct BackendOptions {
   /// evaluation only: the normal station never has them).
   std::map<RobotId, Eigen::Isometry3d> given_alignment;
   size_t mesh_neighbours = 4;  ///< control points that move a mesh vertex
+  /// Each round starts where the last one ended: its GNC from the last round's poses (a node new
+  /// since then moved as its robot's latest keyframe was), and the loop closures it decided
+  /// taken as decided (known inliers, or held out to be taken back where they fit), so GNC
+  /// decides only the new ones; a robot whose alignment changed starts afresh. The solve with the
+  /// merge factors takes the loop closures as the solve without them decided. false: every round
+  /// decides everything from the aligned frontend state, as the paper's batch backend.
+  bool incremental = true;
 };
 
 struct BackendRoundReport {
@@ -78,6 +85,10 @@ struct BackendRoundReport {
   /// rooms.
   double alignment_s = 0.0, build_s = 0.0, gnc_s = 0.0, whole_graph_s = 0.0, graph_s = 0.0,
          rooms_s = 0.0;
+  /// Incremental rounds: loop closures taken as decided from the last round, and those of them
+  /// the solve contradicted and GNC decided again.
+  size_t loop_closures_known = 0, loop_closures_redecided = 0;
+  int solves = 0;  ///< Ceres solves of the round
 };
 
 /// A merge the backend made, with what evaluation needs to check it: each node as its robot
@@ -155,6 +166,11 @@ class Backend {
   const std::vector<LoopClosureVerdict>& loopClosures() const { return verdicts_; }
 
  private:
+  void rememberForNextRound(const SceneGraph& frontend, const DeformationGraph& graph,
+                            const DeformationResult& result,
+                            const std::vector<PoseGraphEdge>& merges,
+                            const std::map<RobotId, Eigen::Isometry3d>& T_global_robot);
+
   BackendOptions options_;
   InitialAlignment alignment_;
   std::map<RobotId, RobotFrameAlignment> aligned_;
@@ -163,6 +179,13 @@ class Backend {
   std::map<std::pair<NodeId, NodeId>, bool> inliers_;
   std::vector<AcceptedMerge> merges_;
   std::vector<LoopClosureVerdict> verdicts_;
+  // For the next round (BackendOptions::incremental): per node of the deformation graph, the
+  // last solve's motion of it (optimized * initial^-1, global frame); per robot, that of its
+  // latest keyframe, and its alignment; the loop closures' verdicts.
+  std::map<NodeId, Eigen::Isometry3d> corrections_;
+  std::map<RobotId, Eigen::Isometry3d> latest_corrections_;
+  std::map<RobotId, Eigen::Isometry3d> last_alignment_;
+  std::map<std::pair<NodeId, NodeId>, bool> last_verdicts_;
 };
 
 }  // namespace hydra_multi

@@ -203,24 +203,29 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
 DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
                                            const DeformationGraphOptions& options,
                                            const std::set<std::pair<NodeId, NodeId>>& held_out,
-                                           const std::map<NodeId, Eigen::Isometry3d>* start) {
+                                           const DeformationWarmStart* warm) {
   DeformationResult result;
   if (graph.initial.empty()) return result;
   const PoseGraph& robust = options.two_stage ? graph.skeleton : graph.graph;
   RobustPgoOptions solver = options.solver;
-  if (!held_out.empty()) {
-    solver.held_out.assign(robust.edges.size(), false);
-    for (size_t k = 0; k < robust.edges.size(); ++k) {
-      const PoseGraphEdge& e = robust.edges[k];
-      solver.held_out[k] =
-          e.kind == PoseGraphEdge::Kind::kLoopClosure && held_out.count({e.from, e.to}) != 0;
+  solver.held_out.assign(robust.edges.size(), false);
+  solver.known_inlier.assign(robust.edges.size(), false);
+  for (size_t k = 0; k < robust.edges.size(); ++k) {
+    const PoseGraphEdge& e = robust.edges[k];
+    if (e.kind != PoseGraphEdge::Kind::kLoopClosure) continue;
+    if (held_out.count({e.from, e.to})) {
+      solver.held_out[k] = true;
+    } else if (warm != nullptr) {
+      const auto verdict = warm->verdicts.find({e.from, e.to});
+      if (verdict == warm->verdicts.end()) continue;
+      (verdict->second ? solver.known_inlier : solver.held_out)[k] = true;
     }
   }
   std::map<NodeId, Eigen::Isometry3d> initial_poses = robust.poses;
-  if (start != nullptr) {
+  if (warm != nullptr) {
     for (auto& [id, pose] : initial_poses) {
-      const auto it = start->find(id);
-      if (it != start->end()) pose = it->second;
+      const auto it = warm->poses.find(id);
+      if (it != warm->poses.end()) pose = it->second;
     }
   }
   result.solve = optimizePoseGraph(robust, initial_poses, graph.anchor, solver);

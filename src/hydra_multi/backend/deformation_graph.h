@@ -115,13 +115,20 @@ struct DeformationResult {
   double whole_graph_s = 0.0;  ///< the whole-graph solve after it (two_stage)
 };
 
+/// What a solve may take from earlier ones: poses to start from instead of the graph's initial
+/// ones, where it has them, and verdicts on robust factors (from, to): true, a known inlier that
+/// GNC decides again only if its result contradicts it; false, held out (RobustPgoOptions).
+struct DeformationWarmStart {
+  std::map<NodeId, Eigen::Isometry3d> poses;
+  std::map<std::pair<NodeId, NodeId>, bool> verdicts;
+};
+
 /// `held_out`: robust factors (from, to) GNC starts without, taken back only if they fit its
-/// result (RobustPgoOptions::held_out). `start`: poses to start from instead of the graph's
-/// initial ones, where it has them (a previous solve's).
+/// result (RobustPgoOptions::held_out); they stay held out whatever `warm` says of them.
 DeformationResult optimizeDeformationGraph(
     const DeformationGraph& graph, const DeformationGraphOptions& options = {},
     const std::set<std::pair<NodeId, NodeId>>& held_out = {},
-    const std::map<NodeId, Eigen::Isometry3d>* start = nullptr);
+    const DeformationWarmStart* warm = nullptr);
 
 /// Moves mesh vertices (global frame, before optimization) with their k nearest control points
 /// among those made within `window_s` of the vertex (TimedNeighbors; <= 0: any): `initial` and

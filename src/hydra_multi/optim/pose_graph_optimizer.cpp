@@ -47,7 +47,11 @@ PoseGraphProblem::PoseGraphProblem(const PoseGraph& graph,
     m.blocks.push_back({Eigen::Quaterniond(T.linear()).normalized(), T.translation()});
   }
   m.initial = m.blocks;
-  ceres::Manifold* quaternion_manifold = new ceres::EigenQuaternionManifold;
+  // The geodesic cost gives its Jacobian in the tangent space (residuals.h).
+  ceres::Manifold* quaternion_manifold =
+      options.residual == ResidualType::kChordal
+          ? static_cast<ceres::Manifold*>(new ceres::EigenQuaternionManifold)
+          : new LeftQuaternionTangentManifold;
   for (auto& block : m.blocks) {
     m.problem.AddParameterBlock(block.q.coeffs().data(), 4, quaternion_manifold);
     m.problem.AddParameterBlock(block.t.data(), 3);
@@ -63,7 +67,7 @@ PoseGraphProblem::PoseGraphProblem(const PoseGraph& graph,
     e.j = j->second;
     e.cost = options.residual == ResidualType::kChordal
                  ? ChordalResidual::Create(edge.T_from_to, isotropicWeights(edge.information))
-                 : GeodesicResidual::Create(edge.T_from_to, edge.information);
+                 : new GeodesicCost(edge.T_from_to, edge.information);
     e.loss = new ceres::LossFunctionWrapper(nullptr, ceres::TAKE_OWNERSHIP);
     e.id = m.problem.AddResidualBlock(e.cost, e.loss, m.blocks[e.i].q.coeffs().data(),
                                       m.blocks[e.i].t.data(), m.blocks[e.j].q.coeffs().data(),
@@ -131,6 +135,16 @@ void PoseGraphProblem::resetToInitial() {
     impl_->blocks[i].q = impl_->initial[i].q;
     impl_->blocks[i].t = impl_->initial[i].t;
   }
+}
+
+PoseGraphProblem& PoseGraphProblem::setPoses(const std::map<NodeId, Eigen::Isometry3d>& poses) {
+  for (const auto& [id, T] : poses) {
+    const auto i = impl_->index.find(id);
+    if (i == impl_->index.end()) continue;
+    impl_->blocks[i->second].q = Eigen::Quaterniond(T.linear()).normalized();
+    impl_->blocks[i->second].t = T.translation();
+  }
+  return *this;
 }
 
 std::map<NodeId, Eigen::Isometry3d> PoseGraphProblem::poses() const {

@@ -69,6 +69,8 @@ class PoseGraphProblem {
   SolveSummary solve();
   /// Puts every pose back at its initial value.
   void resetToInitial();
+  /// Moves the poses it has to `poses` (the others stay).
+  PoseGraphProblem& setPoses(const std::map<NodeId, Eigen::Isometry3d>& poses);
 
   std::map<NodeId, Eigen::Isometry3d> poses() const;
   /// Unweighted squared residual of every edge at the current poses (0 for excluded edges):

@@ -25,9 +25,7 @@ Matrix6d nearestPositiveDefinite(const Matrix6d& information) {
   return eigen.eigenvectors() * clamped.asDiagonal() * eigen.eigenvectors().transpose();
 }
 
-GeodesicResidual::GeodesicResidual(const Eigen::Isometry3d& T_i_j, const Matrix6d& information)
-    : q_ij_(T_i_j.linear()), t_ij_(T_i_j.translation()) {
-  q_ij_.normalize();
+Matrix6d geodesicSqrtInformation(const Matrix6d& information) {
   // S = D^1/2 V^T from information = V D V^T, so ||S e||^2 = e^T information e. Unlike a
   // Cholesky factor it exists for semi-definite information too (negative round-off clamped). An
   // information that is not positive definite is weighed by its nearest positive-definite matrix.
@@ -35,8 +33,134 @@ GeodesicResidual::GeodesicResidual(const Eigen::Isometry3d& T_i_j, const Matrix6
                                ? information
                                : nearestPositiveDefinite(information);
   const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(0.5 * (weighed + weighed.transpose()));
-  sqrt_info_ =
-      eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * eigen.eigenvectors().transpose();
+  return eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() *
+         eigen.eigenvectors().transpose();
+}
+
+GeodesicResidual::GeodesicResidual(const Eigen::Isometry3d& T_i_j, const Matrix6d& information)
+    : q_ij_(T_i_j.linear()), t_ij_(T_i_j.translation()) {
+  q_ij_.normalize();
+  sqrt_info_ = geodesicSqrtInformation(information);
+}
+
+namespace {
+
+// Exp(delta) as a unit quaternion.
+Eigen::Quaterniond expQuaternion(const Eigen::Vector3d& delta) {
+  const double theta = delta.norm();
+  if (theta < 1e-10) return Eigen::Quaterniond(1.0, 0.5 * delta.x(), 0.5 * delta.y(),
+                                               0.5 * delta.z()).normalized();
+  const Eigen::Vector3d axis = delta / theta;
+  return Eigen::Quaterniond(Eigen::AngleAxisd(theta, axis));
+}
+
+// Log of a unit quaternion: the rotation vector of angle in [0, pi].
+Eigen::Vector3d logQuaternion(Eigen::Quaterniond q) {
+  if (q.w() < 0.0) q.coeffs() = -q.coeffs();
+  const double s = q.vec().norm();
+  if (s < 1e-10) return 2.0 * q.vec() / q.w();
+  return 2.0 * std::atan2(s, q.w()) * q.vec() / s;
+}
+
+}  // namespace
+
+bool LeftQuaternionTangentManifold::Plus(const double* x, const double* delta,
+                                         double* x_plus_delta) const {
+  const Eigen::Map<const Eigen::Quaterniond> q(x);
+  Eigen::Map<Eigen::Quaterniond> result(x_plus_delta);
+  result = (expQuaternion(Eigen::Map<const Eigen::Vector3d>(delta)) * q).normalized();
+  return true;
+}
+
+bool LeftQuaternionTangentManifold::PlusJacobian(const double*, double* jacobian) const {
+  Eigen::Map<Eigen::Matrix<double, 4, 3, Eigen::RowMajor>> J(jacobian);
+  J.setZero();
+  J.topRows<3>().setIdentity();
+  return true;
+}
+
+bool LeftQuaternionTangentManifold::Minus(const double* y, const double* x,
+                                          double* y_minus_x) const {
+  const Eigen::Map<const Eigen::Quaterniond> qy(y), qx(x);
+  Eigen::Map<Eigen::Vector3d> out(y_minus_x);
+  out = logQuaternion(qy * qx.conjugate());
+  return true;
+}
+
+bool LeftQuaternionTangentManifold::MinusJacobian(const double*, double* jacobian) const {
+  Eigen::Map<Eigen::Matrix<double, 3, 4, Eigen::RowMajor>> J(jacobian);
+  J.setZero();
+  J.leftCols<3>().setIdentity();
+  return true;
+}
+
+GeodesicCost::GeodesicCost(const Eigen::Isometry3d& T_i_j, const Matrix6d& information)
+    : t_ij_(T_i_j.translation()), sqrt_info_(geodesicSqrtInformation(information)) {
+  R_ij_t_ = Eigen::Quaterniond(T_i_j.linear()).normalized().toRotationMatrix().transpose();
+}
+
+bool GeodesicCost::Evaluate(double const* const* parameters, double* residuals,
+                            double** jacobians) const {
+  const Eigen::Map<const Eigen::Quaterniond> q_i(parameters[0]), q_j(parameters[2]);
+  const Eigen::Map<const Eigen::Vector3d> t_i(parameters[1]), t_j(parameters[3]);
+  const Eigen::Matrix3d R_i = q_i.toRotationMatrix(), R_j = q_j.toRotationMatrix();
+  const Eigen::Matrix3d A = R_ij_t_ * R_i.transpose();  // R_ij^T R_i^T
+  const Eigen::Vector3d d = t_j - t_i;
+  const Eigen::Vector3d t_e = A * d - R_ij_t_ * t_ij_;
+  const Eigen::Vector3d phi = logQuaternion(Eigen::Quaterniond(A * R_j));
+  const double theta_sq = phi.squaredNorm();
+  double c, dc;  // c(theta) and c'(theta) / theta
+  if (theta_sq < 1e-2) {  // series: the closed forms cancel catastrophically near 0
+    c = 1.0 / 12.0 + theta_sq / 720.0 + theta_sq * theta_sq / 30240.0;
+    dc = 1.0 / 360.0 + theta_sq / 7560.0 + theta_sq * theta_sq / 201600.0;
+  } else {
+    const double theta = std::sqrt(theta_sq);
+    const double cot = std::cos(0.5 * theta) / std::sin(0.5 * theta);
+    const double csc_sq = 1.0 / (std::sin(0.5 * theta) * std::sin(0.5 * theta));
+    c = 1.0 / theta_sq - cot / (2.0 * theta);
+    dc = (-2.0 / (theta_sq * theta) + csc_sq / (4.0 * theta) + cot / (2.0 * theta_sq)) / theta;
+  }
+  const Eigen::Matrix3d Phi = hat(phi);
+  const Eigen::Vector3d phi_x_t = phi.cross(t_e);
+  const Eigen::Vector3d phi_x_phi_x_t = phi.cross(phi_x_t);
+  Eigen::Matrix<double, 6, 1> e;
+  e.head<3>() = t_e - 0.5 * phi_x_t + c * phi_x_phi_x_t;
+  e.tail<3>() = phi;
+  Eigen::Map<Eigen::Matrix<double, 6, 1>> r(residuals);
+  r = sqrt_info_ * e;
+  if (jacobians == nullptr) return true;
+
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d W = I - 0.5 * Phi + c * Phi * Phi;
+  const Eigen::Matrix3d Jr_inv = I + 0.5 * Phi + c * Phi * Phi;
+  const Eigen::Matrix3d P = 0.5 * hat(t_e) + dc * phi_x_phi_x_t * phi.transpose() +
+                            c * (phi.dot(t_e) * I + phi * t_e.transpose() -
+                                 2.0 * t_e * phi.transpose());
+  const Eigen::Matrix3d dphi_dj = Jr_inv * R_j.transpose();
+  const Eigen::Matrix<double, 6, 3> Sr = sqrt_info_.leftCols<3>() * W;  // d r / d t_E
+  // d r / d phi, through rho and phi
+  const Eigen::Matrix<double, 6, 3> Sphi = sqrt_info_.leftCols<3>() * P + sqrt_info_.rightCols<3>();
+  using Rows4 = Eigen::Map<Eigen::Matrix<double, 6, 4, Eigen::RowMajor>>;
+  using Rows3 = Eigen::Map<Eigen::Matrix<double, 6, 3, Eigen::RowMajor>>;
+  if (jacobians[0] != nullptr) {
+    Rows4 J(jacobians[0]);
+    J.leftCols<3>() = Sr * (A * hat(d)) - Sphi * dphi_dj;
+    J.col(3).setZero();
+  }
+  if (jacobians[1] != nullptr) {
+    Rows3 J(jacobians[1]);
+    J = -Sr * A;
+  }
+  if (jacobians[2] != nullptr) {
+    Rows4 J(jacobians[2]);
+    J.leftCols<3>() = Sphi * dphi_dj;
+    J.col(3).setZero();
+  }
+  if (jacobians[3] != nullptr) {
+    Rows3 J(jacobians[3]);
+    J = Sr * A;
+  }
+  return true;
 }
 
 }  // namespace hydra_multi

@@ -74,6 +74,10 @@ class ChordalResidual {
   double sqrt_tau_;
 };
 
+/// S with S^T S = information (S = D^1/2 V^T): the geodesic residual's weight; an information
+/// that is not positive definite is weighed by nearestPositiveDefinite.
+Matrix6d geodesicSqrtInformation(const Matrix6d& information);
+
 class GeodesicResidual {
  public:
   GeodesicResidual(const Eigen::Isometry3d& T_i_j, const Matrix6d& information);
@@ -117,6 +121,40 @@ class GeodesicResidual {
 
  private:
   Eigen::Quaterniond q_ij_;
+  Eigen::Vector3d t_ij_;
+  Matrix6d sqrt_info_;
+};
+
+/// The rotation manifold of the geodesic cost: q <- Exp(delta) q (left, as Ceres'
+/// EigenQuaternionManifold), with PlusJacobian [I_3; 0]: a cost function on it gives its Jacobian
+/// in the tangent space, in the first three columns of the quaternion's (the fourth is zero).
+class LeftQuaternionTangentManifold : public ceres::Manifold {
+ public:
+  int AmbientSize() const override { return 4; }
+  int TangentSize() const override { return 3; }
+  bool Plus(const double* x, const double* delta, double* x_plus_delta) const override;
+  bool PlusJacobian(const double* x, double* jacobian) const override;
+  bool Minus(const double* y, const double* x, double* y_minus_x) const override;
+  bool MinusJacobian(const double* x, double* jacobian) const override;
+};
+
+/// GeodesicResidual with its Jacobian in closed form, for LeftQuaternionTangentManifold rotations
+/// (t plain R^3). With left perturbations R <- Exp(d) R, e = [rho; phi], W = V(phi)^-1,
+/// Jr^-1 = I + 1/2 hat(phi) + c hat(phi)^2, c = 1/theta^2 - cot(theta/2) / (2 theta), and
+/// P = d rho / d phi = 1/2 hat(t_E) + dc (phi x (phi x t_E)) phi^T + c ((phi.t_E) I + phi t_E^T -
+/// 2 t_E phi^T), dc = c'(theta) / theta:
+///   d phi / d_i = -Jr^-1 R_j^T          d phi / d_j = Jr^-1 R_j^T
+///   d t_E / d_i = R_ij^T R_i^T hat(t_j - t_i),  d t_E / dt_i = -R_ij^T R_i^T = -d t_E / dt_j
+///   d rho = W d t_E + P d phi;  r = sqrt_info e.
+/// Checked against GeodesicResidual's automatic derivatives (tests/optim/test_residuals.cpp).
+class GeodesicCost : public ceres::SizedCostFunction<6, 4, 3, 4, 3> {
+ public:
+  GeodesicCost(const Eigen::Isometry3d& T_i_j, const Matrix6d& information);
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+ private:
+  Eigen::Matrix3d R_ij_t_;  // R_ij^T
   Eigen::Vector3d t_ij_;
   Matrix6d sqrt_info_;
 };

@@ -1,5 +1,6 @@
 #include "hydra_multi/optim/robust_pose_graph.h"
 
+#include <algorithm>
 #include <chrono>
 
 namespace hydra_multi {
@@ -16,17 +17,24 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
   RobustPgoResult result;
   PoseGraphProblem problem(graph, initial, anchor, options.solver);
 
-  // Robust factors: the loop closures the problem includes.
-  std::vector<size_t> robust_edges, held_out;
+  // Robust factors: the loop closures the problem includes, undecided, held out or known inliers.
+  std::vector<size_t> robust_edges, held_out, known;
   for (size_t k = 0; k < graph.edges.size(); ++k) {
-    if (graph.edges[k].kind == PoseGraphEdge::Kind::kLoopClosure && problem.edgeIncluded(k)) {
-      (k < options.held_out.size() && options.held_out[k] ? held_out : robust_edges).push_back(k);
+    if (graph.edges[k].kind != PoseGraphEdge::Kind::kLoopClosure || !problem.edgeIncluded(k))
+      continue;
+    if (k < options.held_out.size() && options.held_out[k]) {
+      held_out.push_back(k);
+    } else if (options.robust && k < options.known_inlier.size() && options.known_inlier[k]) {
+      known.push_back(k);
+    } else {
+      robust_edges.push_back(k);
     }
   }
 
   // The first GNC solve decides the linear solver: one timed Cholesky iteration (see options).
-  bool conjugate_gradients = false;
+  bool conjugate_gradients = false, chosen = false;
   const auto chooseLinearSolver = [&]() {
+    chosen = true;
     PoseGraphOptimizerOptions probe = options.solver;
     probe.max_iterations = 1;
     problem.setOptions(probe);
@@ -61,7 +69,7 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
     for (size_t r = 0; r < robust_edges.size(); ++r) edge_weights[robust_edges[r]] = weights[r];
     problem.setWeights(edge_weights);
     if (options.restart_from_initial) problem.resetToInitial();
-    if (options.robust && result.solves == 0) chooseLinearSolver();
+    if (options.robust && !chosen) chooseLinearSolver();
     const SolveSummary summary = problem.solve();
     record(summary);
     WeightedSolution solution;
@@ -80,7 +88,8 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
     return solution;
   };
 
-  if (options.robust) {
+  // GNC over the undecided robust factors (none: nothing to run), from the problem's poses.
+  const auto gnc = [&] {
     std::vector<double> initial_r2;
     if (options.gnc_from_initial_estimate) {
       const std::vector<double> r2 = problem.squaredResiduals();
@@ -88,30 +97,27 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
     }
     result.gnc = runGnc(robust_edges.size(), solve, options.gnc,
                         options.gnc_from_initial_estimate ? &initial_r2 : nullptr);
-  } else {
-    solve(std::vector<double>(robust_edges.size(), 1.0));
-  }
-  result.poses = problem.poses();
-  result.edge_weight = edge_weights;
-  result.edge_inlier.assign(graph.edges.size(), true);
-  for (size_t r = 0; r < robust_edges.size() && options.robust; ++r) {
-    result.edge_inlier[robust_edges[r]] = result.gnc.inliers[r];
-  }
-  for (const size_t k : held_out) result.edge_inlier[k] = false;
+    result.poses = problem.poses();
+    result.edge_weight = edge_weights;
+    result.edge_inlier.assign(graph.edges.size(), true);
+    for (size_t r = 0; r < robust_edges.size(); ++r)
+      result.edge_inlier[robust_edges[r]] = result.gnc.inliers[r];
+    for (const size_t k : held_out) result.edge_inlier[k] = false;
+  };
 
-  if (options.robust && (conjugate_gradients || options.readmit_consistent)) {
-    // Polish: the exact optimum over the inliers with the configured (sparse) solver; then take
-    // back rejected loop closures that fit it, and repeat until none does.
-    const double c2 = options.gnc.thresholdSq();
+  // Polish: the exact optimum over the inliers with the configured (sparse) solver; then take
+  // back rejected loop closures that fit it, and repeat until none does.
+  const double c2 = options.gnc.thresholdSq();
+  const auto polish = [&] {
     for (int round = 0; round < 10; ++round) {
       PoseGraph inliers;
       for (size_t k = 0; k < graph.edges.size(); ++k) {
         if (result.edge_inlier[k]) inliers.edges.push_back(graph.edges[k]);
       }
-      PoseGraphProblem polish(inliers, result.poses, anchor, options.solver);
-      const SolveSummary summary = polish.solve();
+      PoseGraphProblem polished(inliers, result.poses, anchor, options.solver);
+      const SolveSummary summary = polished.solve();
       record(summary);
-      result.poses = polish.poses();
+      result.poses = polished.poses();
 
       size_t readmitted = 0;
       if (options.readmit_consistent) {
@@ -142,6 +148,47 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
                          std::to_string(readmitted) + " rejected loop closures fit it again");
       }
       if (readmitted == 0) break;
+    }
+  };
+
+  if (!options.robust) {
+    solve(std::vector<double>(robust_edges.size(), 1.0));
+    result.poses = problem.poses();
+    result.edge_weight = edge_weights;
+    result.edge_inlier.assign(graph.edges.size(), true);
+  } else {
+    gnc();
+    // With nothing undecided GNC did not solve: the polish is the solve.
+    if (conjugate_gradients || options.readmit_consistent || result.solves == 0) polish();
+    // Known inliers the result contradicts are decided again by GNC from it, with the factors
+    // decided so far fixed: inliers at weight 1, the rejected held out.
+    if (!known.empty()) {
+      const std::vector<double> r2 = problem.setPoses(result.poses).squaredResiduals();
+      std::vector<size_t> contradicted;
+      for (const size_t k : known) {
+        if (r2[k] > c2) contradicted.push_back(k);
+      }
+      if (!contradicted.empty()) {
+        result.known_contradicted = contradicted.size();
+        std::vector<size_t> decided = robust_edges;
+        decided.insert(decided.end(), held_out.begin(), held_out.end());
+        held_out.clear();
+        for (const size_t k : decided) {
+          if (result.edge_inlier[k]) {
+            known.push_back(k);
+          } else {
+            held_out.push_back(k);
+            edge_weights[k] = 0.0;
+          }
+        }
+        for (const size_t k : contradicted) {
+          known.erase(std::find(known.begin(), known.end(), k));
+        }
+        for (const size_t k : known) edge_weights[k] = 1.0;
+        robust_edges = contradicted;
+        gnc();
+        polish();
+      }
     }
   }
   result.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -43,6 +43,12 @@ struct RobustPgoOptions {
   /// as rejected, and readmit_consistent takes back those that fit the result. For loop closures
   /// an earlier, more global test already doubts (the alignment's consensus, initial_alignment.h).
   std::vector<bool> held_out;
+  /// Per graph edge (empty: none): robust factors known to be inliers (an earlier solve's verdict),
+  /// at weight 1 while GNC decides the others. One whose squared residual at GNC's result exceeds
+  /// the inlier threshold is no longer taken as known: GNC runs again with it among the undecided
+  /// (RobustPgoResult::known_contradicted counts them). With every robust factor known or held out,
+  /// GNC has nothing to decide and the result is the polish and re-admission alone.
+  std::vector<bool> known_inlier;
   /// Called after every solve with a one-line report (for progress output on long runs).
   std::function<void(const std::string&)> progress;
 };
@@ -54,6 +60,7 @@ struct RobustPgoResult {
   GncResult gnc;                    ///< empty when not robust
   int solver_iterations = 0;        ///< Levenberg-Marquardt iterations over all solves
   int solves = 0;
+  size_t known_contradicted = 0;  ///< known inliers GNC had to decide again (known_inlier)
   double final_cost = 0.0;  ///< Ceres cost of the last solve (weighted)
   double time_s = 0.0;
   bool usable = true;
