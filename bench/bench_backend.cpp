@@ -64,18 +64,18 @@ int main(int argc, char** argv) {
     robots.clear();
     for (const RobotId r : processor.robots()) {
       const RobotFrontendState* state = processor.robot(r);
-      robots.push_back({r, &state->pose_graph, &state->control_points,
-                        &state->control_point_edges, &state->mesh});
+      robots.push_back({r, &state->pose_graph, &state->control_points, &state->control_point_edges,
+                        &state->mesh});
     }
     const std::vector<PoseGraphEdge> inter = interRobotEdges(detector.loopClosures());
     const BackendRoundReport r = backend.round(processor.graph(), robots, inter, root);
-    std::printf("%7s  %3zu/%-3zu  %5zu  %7zu  %5zu  %4zu/%-4zu  %4zu/%-4zu  %5zu/%-3zu  %6d  %7.2f  "
-                "%7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %7.2f\n",
-                name.c_str(), r.robots_aligned, r.robots, r.variables, r.factors, r.nodes,
-                r.inter_robot_inliers, r.inter_robot_loop_closures, r.merges_accepted,
-                r.merges_proposed, r.loop_closures_known, r.loop_closures_redecided, r.solves,
-                r.alignment_s, r.build_s, r.gnc_s, r.whole_graph_s, r.graph_s, r.rooms_s,
-                r.time_s);
+    std::printf(
+        "%7s  %3zu/%-3zu  %5zu  %7zu  %5zu  %4zu/%-4zu  %4zu/%-4zu  %5zu/%-3zu  %6d  %7.2f  "
+        "%7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %7.2f\n",
+        name.c_str(), r.robots_aligned, r.robots, r.variables, r.factors, r.nodes,
+        r.inter_robot_inliers, r.inter_robot_loop_closures, r.merges_accepted, r.merges_proposed,
+        r.loop_closures_known, r.loop_closures_redecided, r.solves, r.alignment_s, r.build_s,
+        r.gnc_s, r.whole_graph_s, r.graph_s, r.rooms_s, r.time_s);
     std::fflush(stdout);
     return r.time_s;
   };

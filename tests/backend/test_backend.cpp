@@ -166,6 +166,60 @@ TEST_F(TinyTeam, OneStageAgreesWithTwoStages) {
   EXPECT_LT(evaluateSceneGraph(b.graph(), *truth_).ate_rmse_m.value(), 0.3);
 }
 
+// Online rounds that start where the last one ended (BackendOptions::incremental) decide what
+// rounds from scratch decide: the same inter-robot loop closures kept, the same merges, the same
+// trajectory error to the millimetre; from the second aligned round on they take the last
+// round's verdicts as known, and solve no more often (fewer where GNC has outliers to reject:
+// RobustPoseGraph.KnownVerdictsAreKeptUnlessTheResultContradictsThem).
+TEST_F(TinyTeam, IncrementalRoundsAgreeWithRoundsFromScratch) {
+  std::vector<RobotUpdate> updates;
+  for (const auto& stream : dataset_->streams)
+    updates.insert(updates.end(), stream.begin(), stream.end());
+  std::stable_sort(updates.begin(), updates.end(), [](const RobotUpdate& a, const RobotUpdate& b) {
+    return a.time_ns < b.time_ns;
+  });
+  BackendOptions scratch = options();
+  scratch.incremental = false;
+  Backend incremental(options()), batch(scratch);
+  SceneGraphProcessor processor;
+  LoopClosureDetector detector;
+  BackendRoundReport last_incremental, last_batch;
+  size_t rounds = 0, known_rounds = 0;
+  int solves_incremental = 0, solves_batch = 0;
+  const auto round = [&] {
+    std::vector<BackendRobot> team;
+    for (const RobotId r : processor.robots()) {
+      const RobotFrontendState* s = processor.robot(r);
+      team.push_back({r, &s->pose_graph, &s->control_points, &s->control_point_edges, &s->mesh});
+    }
+    const std::vector<PoseGraphEdge> inter = interRobotEdges(detector.loopClosures());
+    last_incremental = incremental.round(processor.graph(), team, inter, RobotId(0));
+    last_batch = batch.round(processor.graph(), team, inter, RobotId(0));
+    ++rounds;
+    known_rounds += last_incremental.loop_closures_known > 0;
+    solves_incremental += last_incremental.solves;
+    solves_batch += last_batch.solves;
+    EXPECT_EQ(last_batch.loop_closures_known, 0u);
+    EXPECT_EQ(last_incremental.merges_accepted, last_batch.merges_accepted) << "round " << rounds;
+  };
+  for (size_t i = 0; i < updates.size(); ++i) {
+    const UpdateReport report = processor.process(updates[i]);
+    detector.update(processor, report.new_keyframes);
+    if (i % 5 == 4) round();
+  }
+  detector.flush(processor);
+  round();
+  EXPECT_GE(rounds, 5u);
+  EXPECT_GE(known_rounds, 2u);
+  EXPECT_EQ(last_incremental.robots_aligned, 2u);
+  EXPECT_EQ(incremental.loopClosureInliers(), batch.loopClosureInliers());
+  EXPECT_LE(solves_incremental, solves_batch);  // tiny's GNC has nothing to reject either way
+  const double a = evaluateSceneGraph(incremental.graph(), *truth_).ate_rmse_m.value();
+  const double b = evaluateSceneGraph(batch.graph(), *truth_).ate_rmse_m.value();
+  EXPECT_NEAR(a, b, 1e-3);
+  EXPECT_LT(a, 0.3);
+}
+
 // Ablation no-rec: no merges proposed; the rest as in the full round.
 TEST_F(TinyTeam, WithoutReconciliation) {
   BackendOptions o = options();

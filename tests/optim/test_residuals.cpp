@@ -42,9 +42,9 @@ struct TangentJacobians {
   std::vector<Eigen::MatrixXd> analytic, numeric;
 };
 
-TangentJacobians tangentJacobians(const ceres::CostFunction& cost, const Pose& i, const Pose& j,
-                                  double h,
-                                  const ceres::Manifold& quaternion = ceres::EigenQuaternionManifold()) {
+TangentJacobians tangentJacobians(
+    const ceres::CostFunction& cost, const Pose& i, const Pose& j, double h,
+    const ceres::Manifold& quaternion = ceres::EigenQuaternionManifold()) {
   const int m = cost.num_residuals();
   std::vector<Eigen::VectorXd> x = {i.q.coeffs(), i.t, j.q.coeffs(), j.t};
   auto evaluate = [&](const std::vector<Eigen::VectorXd>& values, std::vector<Eigen::MatrixXd>* J) {

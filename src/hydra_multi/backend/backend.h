@@ -20,11 +20,15 @@
 // (dorm-2 seed 1: ATE 8.0 m; with the hold-outs 0.98 m, as with only the correct ones).
 // Robots not aligned yet are left out of the backend graph until they are.
 
+#include <map>
 #include <memory>
+#include <set>
 #include <vector>
 
 #include "hydra_multi/backend/deformation_graph.h"
 #include "hydra_multi/backend/initial_alignment.h"
+#include "hydra_multi/backend/node_merging.h"
+#include "hydra_multi/backend/optimized_map.h"
 #include "hydra_multi/backend/reconciliation.h"
 #include "hydra_multi/backend/room_segmentation.h"
 #include "hydra_multi/core/nearest_neighbors.h"
@@ -91,26 +95,6 @@ struct BackendRoundReport {
   int solves = 0;  ///< Ceres solves of the round
 };
 
-/// A merge the backend made, with what evaluation needs to check it: each node as its robot
-/// mapped it, its position and the robot's keyframe nearest to it among those of about the time
-/// it last updated the node (stamp and pose), both in the robot's own frame. (Not the optimized
-/// map's, and not the nearest of any time: a keyframe of another pass, off by the drift between
-/// the passes, can lie nearest, and the check inherits its error; dorm-2 seed 1: 20 merges of one
-/// true place, or one object, counted as across two rooms, 1.3-4.6 m apart.)
-struct AcceptedMerge {
-  NodeId target, source;
-  Layer layer = Layer::kPlaces;
-  struct Side {
-    RobotId robot;
-    Eigen::Vector3d position = Eigen::Vector3d::Zero();
-    int64_t keyframe_stamp_ns = -1;  ///< -1: the robot has no keyframe
-    Eigen::Isometry3d T_robot_keyframe = Eigen::Isometry3d::Identity();
-  } target_side, source_side;
-  /// Where the two copies were in the optimized map just before the merge (for display).
-  Eigen::Vector3d target_optimized = Eigen::Vector3d::Zero();
-  Eigen::Vector3d source_optimized = Eigen::Vector3d::Zero();
-};
-
 /// A loop closure of a round and GNC's verdict on it: intra-robot ones from the robots' pose
 /// graphs, inter-robot ones from the frontend's detector (keyframes in station ids).
 struct LoopClosureVerdict {
@@ -120,22 +104,6 @@ struct LoopClosureVerdict {
   bool operator==(const LoopClosureVerdict& o) const {
     return from == o.from && to == o.to && inter_robot == o.inter_robot && kept == o.kept;
   }
-};
-
-/// One robot's AcceptedMerge sides from the frontend graph (station ids, the robot's frame).
-class MergeSideFinder {
- public:
-  /// `mesh`: the robot's, for the time of an object (madeAtNs); `window_s`: how far from the
-  /// node's time its keyframe may be (TimedNeighbors).
-  MergeSideFinder(const SceneGraph& frontend, RobotId robot, const Mesh* mesh, double window_s);
-  AcceptedMerge::Side side(NodeId id) const;
-
- private:
-  const SceneGraph& frontend_;
-  RobotId robot_;
-  const Mesh* mesh_ = nullptr;
-  std::vector<const Node*> keyframes_;
-  std::unique_ptr<TimedNeighbors> near_;
 };
 
 class Backend {
@@ -166,6 +134,33 @@ class Backend {
   const std::vector<LoopClosureVerdict>& loopClosures() const { return verdicts_; }
 
  private:
+  // The aligned robots as the deformation graph takes them.
+  struct Team {
+    std::vector<RobotDeformationInput> inputs;
+    std::map<RobotId, Eigen::Isometry3d> T_global_robot;
+    std::map<RobotId, const Mesh*> meshes;
+  };
+  struct Proposals {
+    std::vector<MergeCandidate> candidates;
+    DeformationWarmStart solved;  ///< the loop closures' solve, for the solve with merges
+  };
+
+  void align(const SceneGraph& frontend, const std::vector<BackendRobot>& robots,
+             const std::vector<PoseGraphEdge>& inter_robot, RobotId root,
+             const std::vector<double>& support);
+  Team alignedTeam(const std::vector<BackendRobot>& robots) const;
+  /// Inter-robot loop closures the alignment's consensus rejected: held out of GNC.
+  std::set<std::pair<NodeId, NodeId>> alignmentOutliers() const;
+  /// Where the last round left the robots aligned as they were (BackendOptions::incremental).
+  DeformationWarmStart lastRound(const DeformationGraph& graph, const Team& team) const;
+  /// The deformation graph without merges solved (its skeleton), and the merge candidates
+  /// proposed and checked on that solution.
+  Proposals proposeOnLoopClosureSolve(const SceneGraph& frontend, const Team& team,
+                                      const std::vector<PoseGraphEdge>& loop_closures,
+                                      const std::set<std::pair<NodeId, NodeId>>& held_out,
+                                      BackendRoundReport& report) const;
+  void recordVerdicts(const Team& team, const std::vector<PoseGraphEdge>& inter_robot,
+                      const DeformationResult& result, BackendRoundReport& report);
   void rememberForNextRound(const SceneGraph& frontend, const DeformationGraph& graph,
                             const DeformationResult& result,
                             const std::vector<PoseGraphEdge>& merges,

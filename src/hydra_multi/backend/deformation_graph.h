@@ -125,10 +125,10 @@ struct DeformationWarmStart {
 
 /// `held_out`: robust factors (from, to) GNC starts without, taken back only if they fit its
 /// result (RobustPgoOptions::held_out); they stay held out whatever `warm` says of them.
-DeformationResult optimizeDeformationGraph(
-    const DeformationGraph& graph, const DeformationGraphOptions& options = {},
-    const std::set<std::pair<NodeId, NodeId>>& held_out = {},
-    const DeformationWarmStart* warm = nullptr);
+DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
+                                           const DeformationGraphOptions& options = {},
+                                           const std::set<std::pair<NodeId, NodeId>>& held_out = {},
+                                           const DeformationWarmStart* warm = nullptr);
 
 /// Moves mesh vertices (global frame, before optimization) with their k nearest control points
 /// among those made within `window_s` of the vertex (TimedNeighbors; <= 0: any): `initial` and

@@ -48,8 +48,8 @@ namespace {
 // Exp(delta) as a unit quaternion.
 Eigen::Quaterniond expQuaternion(const Eigen::Vector3d& delta) {
   const double theta = delta.norm();
-  if (theta < 1e-10) return Eigen::Quaterniond(1.0, 0.5 * delta.x(), 0.5 * delta.y(),
-                                               0.5 * delta.z()).normalized();
+  if (theta < 1e-10)
+    return Eigen::Quaterniond(1.0, 0.5 * delta.x(), 0.5 * delta.y(), 0.5 * delta.z()).normalized();
   const Eigen::Vector3d axis = delta / theta;
   return Eigen::Quaterniond(Eigen::AngleAxisd(theta, axis));
 }
@@ -109,7 +109,7 @@ bool GeodesicCost::Evaluate(double const* const* parameters, double* residuals,
   const Eigen::Vector3d t_e = A * d - R_ij_t_ * t_ij_;
   const Eigen::Vector3d phi = logQuaternion(Eigen::Quaterniond(A * R_j));
   const double theta_sq = phi.squaredNorm();
-  double c, dc;  // c(theta) and c'(theta) / theta
+  double c, dc;           // c(theta) and c'(theta) / theta
   if (theta_sq < 1e-2) {  // series: the closed forms cancel catastrophically near 0
     c = 1.0 / 12.0 + theta_sq / 720.0 + theta_sq * theta_sq / 30240.0;
     dc = 1.0 / 360.0 + theta_sq / 7560.0 + theta_sq * theta_sq / 201600.0;
@@ -133,9 +133,9 @@ bool GeodesicCost::Evaluate(double const* const* parameters, double* residuals,
   const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
   const Eigen::Matrix3d W = I - 0.5 * Phi + c * Phi * Phi;
   const Eigen::Matrix3d Jr_inv = I + 0.5 * Phi + c * Phi * Phi;
-  const Eigen::Matrix3d P = 0.5 * hat(t_e) + dc * phi_x_phi_x_t * phi.transpose() +
-                            c * (phi.dot(t_e) * I + phi * t_e.transpose() -
-                                 2.0 * t_e * phi.transpose());
+  const Eigen::Matrix3d P =
+      0.5 * hat(t_e) + dc * phi_x_phi_x_t * phi.transpose() +
+      c * (phi.dot(t_e) * I + phi * t_e.transpose() - 2.0 * t_e * phi.transpose());
   const Eigen::Matrix3d dphi_dj = Jr_inv * R_j.transpose();
   const Eigen::Matrix<double, 6, 3> Sr = sqrt_info_.leftCols<3>() * W;  // d r / d t_E
   // d r / d phi, through rho and phi

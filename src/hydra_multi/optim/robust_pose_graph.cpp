@@ -2,17 +2,17 @@
 
 #include <algorithm>
 #include <chrono>
+#include <unordered_map>
 
 namespace hydra_multi {
 namespace {
 
 std::string seconds(double s) { return std::to_string(s) + " s"; }
 
-}  // namespace
-
-RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
-                                  const std::map<NodeId, Eigen::Isometry3d>& initial, NodeId anchor,
-                                  const RobustPgoOptions& options) {
+// The solve of optimizePoseGraph over a graph without leaves.
+RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
+                                      const std::map<NodeId, Eigen::Isometry3d>& initial,
+                                      NodeId anchor, const RobustPgoOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   RobustPgoResult result;
   PoseGraphProblem problem(graph, initial, anchor, options.solver);
@@ -191,6 +191,72 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
       }
     }
   }
+  result.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace
+
+RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
+                                  const std::map<NodeId, Eigen::Isometry3d>& initial, NodeId anchor,
+                                  const RobustPgoOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  // Leaves: poses with one edge, a known inlier (not a loop closure), other than the anchor.
+  std::unordered_map<NodeId, int> degree;
+  const auto included = [&](const PoseGraphEdge& e) {
+    return e.from != e.to && initial.count(e.from) && initial.count(e.to);
+  };
+  for (const PoseGraphEdge& e : graph.edges) {
+    if (!included(e)) continue;
+    ++degree[e.from];
+    ++degree[e.to];
+  }
+  const auto isLeaf = [&](NodeId id) { return id != anchor && degree[id] == 1; };
+  std::vector<size_t> kept_edges, leaf_edges;
+  for (size_t k = 0; k < graph.edges.size(); ++k) {
+    const PoseGraphEdge& e = graph.edges[k];
+    const bool leaf = included(e) && e.kind != PoseGraphEdge::Kind::kLoopClosure &&
+                      isLeaf(e.from) != isLeaf(e.to);
+    (leaf ? leaf_edges : kept_edges).push_back(k);
+  }
+  if (leaf_edges.empty()) return optimizeWithoutLeaves(graph, initial, anchor, options);
+
+  PoseGraph reduced;
+  std::map<NodeId, Eigen::Isometry3d> reduced_initial = initial;
+  RobustPgoOptions reduced_options = options;
+  reduced_options.held_out.clear();
+  reduced_options.known_inlier.clear();
+  for (const size_t k : kept_edges) {
+    reduced.edges.push_back(graph.edges[k]);
+    reduced_options.held_out.push_back(k < options.held_out.size() && options.held_out[k]);
+    reduced_options.known_inlier.push_back(k < options.known_inlier.size() &&
+                                           options.known_inlier[k]);
+  }
+  for (const size_t k : leaf_edges) {
+    const PoseGraphEdge& e = graph.edges[k];
+    reduced_initial.erase(isLeaf(e.to) ? e.to : e.from);
+  }
+  RobustPgoResult result = optimizeWithoutLeaves(reduced, reduced_initial, anchor, reduced_options);
+  // Each leaf where its edge puts it: that edge's residual is zero, the optimum's exactly.
+  std::vector<bool> edge_inlier(graph.edges.size(), true);
+  std::vector<double> edge_weight(graph.edges.size(), 1.0);
+  for (size_t r = 0; r < kept_edges.size(); ++r) {
+    if (r < result.edge_inlier.size()) edge_inlier[kept_edges[r]] = result.edge_inlier[r];
+    if (r < result.edge_weight.size()) edge_weight[kept_edges[r]] = result.edge_weight[r];
+  }
+  for (const size_t k : leaf_edges) {
+    const PoseGraphEdge& e = graph.edges[k];
+    const auto at = [&](NodeId id) {
+      const auto it = result.poses.find(id);
+      return it != result.poses.end() ? it->second : initial.at(id);
+    };
+    if (isLeaf(e.to))
+      result.poses[e.to] = at(e.from) * e.T_from_to;
+    else
+      result.poses[e.from] = at(e.to) * e.T_from_to.inverse();
+  }
+  result.edge_inlier = std::move(edge_inlier);
+  result.edge_weight = std::move(edge_weight);
   result.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -1,0 +1,106 @@
+#include "hydra_multi/backend/optimized_map.h"
+
+#include <limits>
+
+#include "hydra_multi/core/nearest_neighbors.h"
+
+namespace hydra_multi {
+
+SceneGraph optimizedMap(const SceneGraph& frontend,
+                        const std::vector<RobotDeformationInput>& robots,
+                        const DeformationGraph& deformation,
+                        const std::map<NodeId, Eigen::Isometry3d>& poses,
+                        const DeformationGraphOptions& options, size_t mesh_neighbours,
+                        std::map<RobotId, Eigen::Isometry3d>* first_keyframes) {
+  SceneGraph graph;
+  if (first_keyframes != nullptr) first_keyframes->clear();
+  for (const RobotDeformationInput& robot : robots) {
+    const Eigen::Isometry3d& T = robot.T_global_robot;
+    // Control points before and after, for the mesh and for objects without vertices.
+    std::vector<Eigen::Isometry3d> cp_initial, cp_optimized;
+    std::vector<int64_t> cp_times;
+    if (robot.control_points != nullptr) {
+      for (const ControlPoint& cp : *robot.control_points) {
+        const NodeId id = controlPointId(robot.robot, cp.id);
+        const auto a = deformation.initial.find(id);
+        const auto b = poses.find(id);
+        if (a == deformation.initial.end() || b == poses.end()) continue;
+        cp_initial.push_back(a->second);
+        cp_optimized.push_back(b->second);
+        cp_times.push_back(cp.time_ns);
+      }
+    }
+    // The mesh: aligned, then deformed.
+    std::vector<MeshVertex> before, after;
+    if (robot.mesh != nullptr) {
+      for (MeshVertex v : robot.mesh->vertices) {
+        v.position = (T * v.position.cast<double>()).cast<float>();
+        before.push_back(v);
+      }
+      after = before;
+      deformMesh(after, cp_initial, cp_optimized, cp_times, options.link_max_dt_s, mesh_neighbours);
+    }
+    std::vector<Eigen::Vector3d> cp_centres;
+    for (const Eigen::Isometry3d& c : cp_initial) cp_centres.push_back(c.translation());
+    const TimedNeighbors near_cp(cp_centres, cp_times, windowNs(options.link_max_dt_s));
+    const uint64_t vertex_offset = graph.mesh().vertices.size();
+    int64_t first_time = std::numeric_limits<int64_t>::max();
+    for (const NodeId id : frontend.nodesOfRobot(robot.robot)) {
+      Node node = frontend.getNode(id);
+      if (node.layer() == Layer::kAgents || node.layer() == Layer::kPlaces) {
+        const auto pose = poses.find(id);
+        if (pose == poses.end()) continue;
+        node.position = pose->second.translation();
+        if (AgentAttributes* agent = node.find<AgentAttributes>()) {
+          agent->orientation = Eigen::Quaterniond(pose->second.linear()).normalized();
+          if (agent->timestamp_ns < first_time) {
+            first_time = agent->timestamp_ns;
+            if (first_keyframes != nullptr) (*first_keyframes)[robot.robot] = pose->second;
+          }
+        }
+      } else if (ObjectAttributes* object = node.find<ObjectAttributes>()) {
+        // Moved as its mesh vertices moved, or as its nearest control point moved.
+        const Eigen::Vector3d aligned_position = T * node.position;
+        Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+        size_t counted = 0;
+        for (const uint64_t v : object->mesh_vertices) {
+          if (v >= before.size()) continue;
+          shift += (after[v].position - before[v].position).cast<double>();
+          ++counted;
+        }
+        if (counted > 0) {
+          shift /= double(counted);
+        } else if (!cp_centres.empty()) {
+          const size_t c =
+              near_cp.nearest(aligned_position, node.last_update_time_ns).front().index;
+          shift = cp_optimized[c] * (cp_initial[c].inverse() * aligned_position) - aligned_position;
+        }
+        node.position = aligned_position + shift;
+        if (object->semantic.bounding_box) {
+          const Eigen::Vector3d half =
+              0.5 * (object->semantic.bounding_box->max - object->semantic.bounding_box->min);
+          object->semantic.bounding_box = BoundingBox{node.position - half, node.position + half};
+        }
+        for (uint64_t& v : object->mesh_vertices) v += vertex_offset;
+      } else {
+        continue;  // rooms and buildings are the backend's own
+      }
+      graph.addOrUpdateNode(std::move(node));
+    }
+    for (const MeshVertex& v : after) graph.mesh().vertices.push_back(v);
+    if (robot.mesh != nullptr) {
+      for (MeshFace f : robot.mesh->faces) {
+        for (uint32_t& i : f) i += static_cast<uint32_t>(vertex_offset);
+        graph.mesh().faces.push_back(f);
+      }
+    }
+  }
+  for (const auto& [key, info] : frontend.edges()) {
+    if (graph.hasNode(key.first()) && graph.hasNode(key.second()))
+      graph.addOrUpdateEdge(key.first(), key.second(), info);
+  }
+
+  return graph;
+}
+
+}  // namespace hydra_multi
