@@ -1,24 +1,22 @@
 #pragma once
 // One backend round (paper III-B, DESIGN.md "Data flow"): from the frontend's state to the
 // backend graph, optimized and in one global frame (robot `root`'s):
-//   1. InitialAlignment of the robots from the inter-robot loop closures, by maximum consensus
-//      per robot pair (initial_alignment.h);
-//   2. the deformation graph of the aligned robots without merges, its skeleton solved with GNC;
-//      loop closures outside their pair's consensus are held out and come back only where they
-//      fit the result (deformation_graph.h);
-//   3. reconciliation proposals on that optimized map (reconciliation.h), as merge factors held
-//      out in the same way; the graph with them solved again (GNC on the skeleton, then the whole
-//      graph once);
-//   4. the backend graph: keyframes and places at their optimized poses, every robot's mesh
-//      aligned and deformed with its control points, objects moved with their mesh vertices (or
-//      with their nearest control point when they have none); the merges kept are made, none if
-//      fewer than half of the proposed ones were kept; with label votes on, then the copies of one
-//      object that robots labelled differently (reconciliation.h);
+//   1. align: InitialAlignment of the robots from the inter-robot loop closures, by maximum
+//      consensus per robot pair (initial_alignment.h);
+//   2. proposeOnLoopClosureSolve: the deformation graph of the aligned robots without merges,
+//      its skeleton solved with GNC, loop closures outside their pair's consensus held out (they
+//      come back only where they fit the result; deformation_graph.h); reconciliation proposals
+//      on that solution as merge factors (reconciliation.h);
+//   3. the graph with the merge factors, held out in the same way, solved again (GNC on the
+//      skeleton, then the whole graph once);
+//   4. optimizedMap, the backend graph (optimized_map.h), and mergeKept, the merges GNC kept or
+//      none (node_merging.h);
 //   5. rooms segmented over the optimized places (room_segmentation.h).
-// Holding factors out of GNC departs from the paper's single GNC over everything: where
-// look-alike rooms make most loop closures wrong, GNC alone followed the consistent wrong ones
-// (dorm-2 seed 1: ATE 8.0 m; with the hold-outs 0.98 m, as with only the correct ones).
-// Robots not aligned yet are left out of the backend graph until they are.
+// Robots not aligned yet are left out of the backend graph until they are. Incremental rounds
+// (BackendOptions::incremental) start GNC where the last round ended; a robot whose alignment
+// changed starts afresh, and merges are proposed and decided anew every round, so a merge later
+// rounds no longer support is undone. docs/DECISIONS.md: "Factors held out of GNC", "Rounds
+// start where the last one ended".
 
 #include <map>
 #include <memory>

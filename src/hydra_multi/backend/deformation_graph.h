@@ -10,24 +10,14 @@
 //            inter-robot loop closures and merge candidates (ReconciliationProposals), all under
 //            GNC.
 // The ties the station makes from one robot's map (rigidity, the links of places and objects,
-// a mesh vertex's control points) join only what the robot made close in time (link_max_dt_s):
-// a robot that revisits a place holds in its own map the drift between its passes, and a tie
-// across them holds that drift against the loop closures (office-3 seed 1, ties of any age: the
-// team's map turned 10 degrees about robot a's start, robot a's start room 1.5 m off, ATE 0.39 m).
-// Kimera-PGMO's variances: odometry 1e-2, loop closures 5e-2, mesh 1e-2 (information = 1/variance
-// on every axis), but the odometry's rotation 1e-4 (odometry_rotation_variance). They replace the
-// information the robots and the detector attach to their edges (use_sent_information false): a
-// robot's odometry information describes its random noise only, not its biases, and would hold
-// the trajectories too stiff for the loop closures to bend them (measured: GNC then rejects
-// correct inter-robot loop closures).
-//
-// GNC runs on the graph's skeleton, then the whole graph is solved once with the factors GNC kept
-// (two_stage, the default). The skeleton holds the keyframes with their odometry, every robust
-// factor, and the places and objects, linked to their nearest keyframe instead of a control point.
-// The control-point lattice makes the whole graph's sparse Cholesky factor fill in (office-3, 5.5k
-// poses and 24k factors: 0.75 s per iteration, ~60 s for GNC's ~27 solves), while the skeleton
-// solves in milliseconds; the mesh then bends with the trajectories it is tied to. Kimera-Multi
-// splits the same way: robust optimization over the pose graph, mesh deformation after it.
+// a mesh vertex's control points) join only what the robot made within link_max_dt_s of each
+// other. Every factor's information is 1/variance on every axis with Kimera-PGMO's variances
+// (odometry 1e-2, its rotation 1e-4; loop closures 5e-2; mesh 1e-2), not the information the
+// robots send (use_sent_information). GNC runs on the graph's skeleton (keyframes with their
+// odometry, every robust factor, places and objects linked to their nearest keyframe), then the
+// whole graph is solved once with the factors GNC kept (two_stage). docs/DECISIONS.md: "Ties
+// only between what a robot made within 10 s", "Kimera-PGMO's variances, not the robots'
+// information", "GNC on the skeleton, then the whole graph once".
 //
 // After the solve, mesh vertices move with their k nearest control points (deformMesh):
 //   v' = sum_j w_j (R_j R0_j^T (v - g_j) + t_j) / sum_j w_j,   w_j = 1 - d_j / d_max,
@@ -68,9 +58,7 @@ struct DeformationGraphOptions {
   /// What the station ties together from one robot's map (two control points by mesh rigidity, a
   /// place or object and the keyframe or control point it is linked to, a mesh vertex and the
   /// control points it moves with) was made by the robot at most this far apart in time (s;
-  /// core/nearest_neighbors.h TimedNeighbors; Kimera-PGMO's tol_t). Across a revisit the robot's
-  /// map holds the drift between its passes, so a tie there would hold that drift against the
-  /// loop closures (office-3 seed 1: ATE 0.39 m with ties of any age). <= 0: no limit.
+  /// core/nearest_neighbors.h TimedNeighbors; Kimera-PGMO's tol_t). <= 0: no limit.
   double link_max_dt_s = 10.0;
   bool use_sent_information = false;
   double place_link_radius = 3.0;  ///< m: a place links to a control point this close, else
@@ -78,10 +66,6 @@ struct DeformationGraphOptions {
   RobustPgoOptions solver;
   bool two_stage = true;  ///< GNC on the skeleton, then one solve of the whole graph
   /// Rotation variance of the odometry, in both solves (its translation's is odometry_variance).
-  /// With odometry_variance there the keyframe chain bends under the loop closures: in the
-  /// skeleton, office-3 seed 1, ATE 11.6 m against 0.62 m with 1e-4; in the whole graph, once its
-  /// mesh rigidity joins only what a robot made close in time (link_max_dt_s), the team's map
-  /// turned 10 degrees about robot a's start (office-3 seed 1: ATE 0.077 m against 0.064 m).
   double odometry_rotation_variance = 1e-4;
   /// Levenberg-Marquardt iterations of that whole-graph solve; 0: none, control points move
   /// rigidly with the keyframe that observed them.

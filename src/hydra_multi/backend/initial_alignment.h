@@ -8,9 +8,8 @@
 // the station gives it (frontend/loop_closure_detector.h, interRobotSupport: how much more
 // distinctive its match is than a typical one), not 1. In look-alike rooms the wrong loop
 // closures agree with each other and outnumber the right ones; the few matches that hold a
-// distinctive place (a kitchen among student rooms) decide. On dorm-2, dorm-2-meet and hetero-2
-// (seeds 1-5) the right cluster of the final loop closures has the most support on all 15
-// datasets, the most members on 10; the station aligns all 15 runs (README, `trials`).
+// distinctive place (a kitchen among student rooms) decide (docs/DECISIONS.md: "The alignment's
+// consensus weighed by support").
 //
 // Online, a robot once aligned keeps its alignment: it is replaced only when this round's
 // estimate, from every loop closure so far, disagrees with the backend's optimized result by more

@@ -17,10 +17,8 @@ namespace hydra_multi {
 
 /// A merge the backend made, with what evaluation needs to check it: each node as its robot
 /// mapped it, its position and the robot's keyframe nearest to it among those of about the time
-/// it last updated the node (stamp and pose), both in the robot's own frame. (Not the optimized
-/// map's, and not the nearest of any time: a keyframe of another pass, off by the drift between
-/// the passes, can lie nearest, and the check inherits its error; dorm-2 seed 1: 20 merges of one
-/// true place, or one object, counted as across two rooms, 1.3-4.6 m apart.)
+/// it last updated the node (stamp and pose), both in the robot's own frame (docs/DECISIONS.md:
+/// "A merge is checked through the keyframe of its node's time").
 struct AcceptedMerge {
   NodeId target, source;
   Layer layer = Layer::kPlaces;
