@@ -1,7 +1,7 @@
 // Backend benchmark: the frontend (processor and loop-closure detector) over a whole dataset
 // without a backend, then backend rounds on the final state, with the time of every stage
 // (alignment, graph assembly, GNC, the whole-graph solve, the backend graph, rooms), the size
-// of the deformation graph, the loop closures taken as decided from the last round and those
+// of the deformation graph, the robust factors taken as decided from the last round and those
 // decided again, and the Ceres solves. With --every K, a round also runs after every K updates,
 // as an online station whose backend keeps up would run them. Build in Release (`make
 // bench-backend`).
@@ -74,8 +74,8 @@ int main(int argc, char** argv) {
         "%7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %7.2f\n",
         name.c_str(), r.robots_aligned, r.robots, r.variables, r.factors, r.nodes,
         r.inter_robot_inliers, r.inter_robot_loop_closures, r.merges_accepted, r.merges_proposed,
-        r.loop_closures_known, r.loop_closures_redecided, r.solves, r.alignment_s, r.build_s,
-        r.gnc_s, r.whole_graph_s, r.graph_s, r.rooms_s, r.time_s);
+        r.verdicts_known, r.verdicts_redecided, r.solves, r.alignment_s, r.build_s, r.gnc_s,
+        r.whole_graph_s, r.graph_s, r.rooms_s, r.time_s);
     std::fflush(stdout);
     return r.time_s;
   };

@@ -64,7 +64,6 @@ bool sameTransform(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
 
 void Backend::rememberForNextRound(const SceneGraph& frontend, const DeformationGraph& graph,
                                    const DeformationResult& result,
-                                   const std::vector<PoseGraphEdge>& merges,
                                    const std::map<RobotId, Eigen::Isometry3d>& T_global_robot) {
   corrections_.clear();
   latest_corrections_.clear();
@@ -86,11 +85,7 @@ void Backend::rememberForNextRound(const SceneGraph& frontend, const Deformation
       latest_corrections_[robot] = correction->second;
     }
   }
-  std::set<std::pair<NodeId, NodeId>> merge_factors;
-  for (const PoseGraphEdge& e : merges) merge_factors.insert({e.from, e.to});
-  for (const auto& [edge, inlier] : result.robust_inlier) {
-    if (!merge_factors.count(edge)) last_verdicts_[edge] = inlier;
-  }
+  last_verdicts_ = result.robust_inlier;
 }
 
 void Backend::align(const SceneGraph& frontend, const std::vector<BackendRobot>& robots,
@@ -133,7 +128,8 @@ std::set<std::pair<NodeId, NodeId>> Backend::alignmentOutliers() const {
   return held_out;
 }
 
-DeformationWarmStart Backend::lastRound(const DeformationGraph& graph, const Team& team) const {
+DeformationWarmStart Backend::lastRound(const DeformationGraph& graph, const Team& team,
+                                        bool poses) const {
   DeformationWarmStart warm;
   if (!options_.incremental) return warm;
   std::set<RobotId> kept;  // robots aligned as they were
@@ -146,7 +142,7 @@ DeformationWarmStart Backend::lastRound(const DeformationGraph& graph, const Tea
     return robot && kept.count(*robot) != 0;
   };
   for (const auto& [id, initial] : graph.skeleton.poses) {
-    if (!ofKept(id)) continue;
+    if (!poses || !ofKept(id)) continue;
     const auto own = corrections_.find(id);
     if (own != corrections_.end()) {
       warm.poses[id] = own->second * initial;
@@ -170,9 +166,9 @@ Backend::Proposals Backend::proposeOnLoopClosureSolve(
   DeformationGraphOptions skeleton = options_.deformation;
   skeleton.final_iterations = 0;
   const DeformationWarmStart warm = lastRound(graph, team);
-  report.loop_closures_known = warm.verdicts.size();
+  report.verdicts_known = warm.verdicts.size();
   const DeformationResult solved = optimizeDeformationGraph(graph, skeleton, held_out, &warm);
-  report.loop_closures_redecided += solved.solve.known_contradicted;
+  report.verdicts_redecided += solved.solve.known_contradicted;
   report.solves += solved.solve.solves;
   proposals.solved.poses = solved.poses;
   if (options_.incremental) proposals.solved.verdicts = solved.robust_inlier;
@@ -251,16 +247,23 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   DeformationWarmStart warm = std::move(proposals.solved);
   if (warm.poses.empty()) {
     warm = lastRound(graph, team);
-    report.loop_closures_known = warm.verdicts.size();
+    report.verdicts_known = warm.verdicts.size();
+  } else if (options_.incremental) {
+    // The loop closures as the solve without merges decided them; the merges as the last round.
+    const DeformationWarmStart last = lastRound(graph, team, false);
+    for (const PoseGraphEdge& e : merges) {
+      const auto verdict = last.verdicts.find({e.from, e.to});
+      if (verdict != last.verdicts.end()) warm.verdicts.insert(*verdict);
+    }
   }
   const DeformationResult result = optimizeDeformationGraph(graph, options_.deformation, held_out,
                                                             warm.poses.empty() ? nullptr : &warm);
-  report.loop_closures_redecided += result.solve.known_contradicted;
+  report.verdicts_redecided += result.solve.known_contradicted;
   report.solves += result.solve.solves + (result.whole_graph_s > 0.0 ? 1 : 0);
   report.whole_graph_s = result.whole_graph_s;
   report.gnc_s = lap() - result.whole_graph_s;
   recordVerdicts(team, inter_robot, result, report);
-  rememberForNextRound(frontend, graph, result, merges, team.T_global_robot);
+  rememberForNextRound(frontend, graph, result, team.T_global_robot);
 
   // 4. The backend graph, and the merges GNC kept.
   SceneGraph map = optimizedMap(frontend, team.inputs, graph, result.poses, options_.deformation,

@@ -14,9 +14,9 @@
 //   5. rooms segmented over the optimized places (room_segmentation.h).
 // Robots not aligned yet are left out of the backend graph until they are. Incremental rounds
 // (BackendOptions::incremental) start GNC where the last round ended; a robot whose alignment
-// changed starts afresh, and merges are proposed and decided anew every round, so a merge later
-// rounds no longer support is undone. docs/DECISIONS.md: "Factors held out of GNC", "Rounds
-// start where the last one ended".
+// changed starts afresh. Merges are proposed anew every round, and one kept before is decided
+// again when the result contradicts it, so a merge later rounds no longer support is undone.
+// docs/DECISIONS.md: "Factors held out of GNC", "Rounds start where the last one ended".
 
 #include <map>
 #include <memory>
@@ -65,11 +65,12 @@ struct BackendOptions {
   std::map<RobotId, Eigen::Isometry3d> given_alignment;
   size_t mesh_neighbours = 4;  ///< control points that move a mesh vertex
   /// Each round starts where the last one ended: its GNC from the last round's poses (a node new
-  /// since then moved as its robot's latest keyframe was), and the loop closures it decided
-  /// taken as decided (known inliers, or held out to be taken back where they fit), so GNC
-  /// decides only the new ones; a robot whose alignment changed starts afresh. The solve with the
-  /// merge factors takes the loop closures as the solve without them decided. false: every round
-  /// decides everything from the aligned frontend state, as the paper's batch backend.
+  /// since then moved as its robot's latest keyframe was), and the loop closures and merges it
+  /// decided taken as decided (known inliers, or held out to be taken back where they fit), so
+  /// GNC decides only the new ones and those the result contradicts; a robot whose alignment
+  /// changed starts afresh. The solve with the merge factors takes the loop closures as the solve
+  /// without them decided. false: every round decides everything from the aligned frontend
+  /// state, as the paper's batch backend.
   bool incremental = true;
 };
 
@@ -87,9 +88,9 @@ struct BackendRoundReport {
   /// rooms.
   double alignment_s = 0.0, build_s = 0.0, gnc_s = 0.0, whole_graph_s = 0.0, graph_s = 0.0,
          rooms_s = 0.0;
-  /// Incremental rounds: loop closures taken as decided from the last round, and those of them
-  /// the solve contradicted and GNC decided again.
-  size_t loop_closures_known = 0, loop_closures_redecided = 0;
+  /// Incremental rounds: robust factors (loop closures, merges) taken as decided from the last
+  /// round, and those of them the solve contradicted and GNC decided again.
+  size_t verdicts_known = 0, verdicts_redecided = 0;
   int solves = 0;  ///< Ceres solves of the round
 };
 
@@ -149,8 +150,10 @@ class Backend {
   Team alignedTeam(const std::vector<BackendRobot>& robots) const;
   /// Inter-robot loop closures the alignment's consensus rejected: held out of GNC.
   std::set<std::pair<NodeId, NodeId>> alignmentOutliers() const;
-  /// Where the last round left the robots aligned as they were (BackendOptions::incremental).
-  DeformationWarmStart lastRound(const DeformationGraph& graph, const Team& team) const;
+  /// Where the last round left the robots aligned as they were (BackendOptions::incremental):
+  /// its verdicts on robust factors, and with `poses` the poses of `graph`'s skeleton.
+  DeformationWarmStart lastRound(const DeformationGraph& graph, const Team& team,
+                                 bool poses = true) const;
   /// The deformation graph without merges solved (its skeleton), and the merge candidates
   /// proposed and checked on that solution.
   Proposals proposeOnLoopClosureSolve(const SceneGraph& frontend, const Team& team,
@@ -161,7 +164,6 @@ class Backend {
                       const DeformationResult& result, BackendRoundReport& report);
   void rememberForNextRound(const SceneGraph& frontend, const DeformationGraph& graph,
                             const DeformationResult& result,
-                            const std::vector<PoseGraphEdge>& merges,
                             const std::map<RobotId, Eigen::Isometry3d>& T_global_robot);
 
   BackendOptions options_;

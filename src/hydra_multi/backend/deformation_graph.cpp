@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <limits>
+#include <optional>
 #include <set>
 
 #include "hydra_multi/core/nearest_neighbors.h"
@@ -213,12 +214,15 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
   for (size_t k = 0; k < robust.edges.size(); ++k) {
     const PoseGraphEdge& e = robust.edges[k];
     if (e.kind != PoseGraphEdge::Kind::kLoopClosure) continue;
-    if (held_out.count({e.from, e.to})) {
+    std::optional<bool> verdict;
+    if (warm != nullptr) {
+      const auto it = warm->verdicts.find({e.from, e.to});
+      if (it != warm->verdicts.end()) verdict = it->second;
+    }
+    if (verdict == true) {
+      solver.known_inlier[k] = true;
+    } else if (verdict == false || held_out.count({e.from, e.to})) {
       solver.held_out[k] = true;
-    } else if (warm != nullptr) {
-      const auto verdict = warm->verdicts.find({e.from, e.to});
-      if (verdict == warm->verdicts.end()) continue;
-      (verdict->second ? solver.known_inlier : solver.held_out)[k] = true;
     }
   }
   std::map<NodeId, Eigen::Isometry3d> initial_poses = robust.poses;
