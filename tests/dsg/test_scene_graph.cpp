@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <map>
 #include <random>
+#include <set>
 
 #include "hydra_multi/dsg/graph_summary.h"
 #include "hydra_multi/dsg/scene_graph.h"
@@ -121,6 +123,51 @@ TEST(SceneGraph, MergeAndUndo) {
   EXPECT_EQ(g, before);
   // Undoing twice fails: the source exists again.
   EXPECT_FALSE(g.undoMerge(record).ok());
+}
+
+// The per-robot and per-layer queries answer what a pass over every node answers, through adds,
+// removals, merges and their undo, and in a copy.
+TEST(SceneGraph, RobotAndLayerQueriesFollowEveryChange) {
+  const auto check = [](const SceneGraph& g) {
+    std::map<RobotId, std::vector<NodeId>> of_robot;
+    std::map<Layer, std::vector<NodeId>> in_layer;
+    for (const auto& [id, node] : g.nodes()) {
+      if (const auto robot = node.robot()) of_robot[*robot].push_back(id);
+      in_layer[node.layer()].push_back(id);
+    }
+    for (const char prefix : {'a', 'b', 'c'}) {
+      const RobotId robot = *RobotId::fromPrefix(prefix);
+      EXPECT_EQ(g.nodesOfRobot(robot), of_robot[robot]) << prefix;
+    }
+    for (const Layer layer : kAllLayers) {
+      EXPECT_EQ(g.nodesInLayer(layer), in_layer[layer]) << layerName(layer);
+      EXPECT_EQ(g.numNodes(layer), in_layer[layer].size()) << layerName(layer);
+    }
+    std::set<RobotId> robots;
+    for (const auto& [robot, ids] : of_robot) robots.insert(robot);
+    for (const MeshVertex& v : g.mesh().vertices) robots.insert(v.robot);
+    EXPECT_EQ(g.robots(), std::vector<RobotId>(robots.begin(), robots.end()));
+  };
+  std::mt19937 rng(11);
+  SceneGraph g = testing::makeRandomGraph(rng);
+  check(g);
+  const RobotId b = *RobotId::fromPrefix('b');
+  const NodeId o1 = NodeId::station('O', b, 1), o2 = NodeId::station('O', b, 2);
+  g.addOrUpdateNode(makeNode(o1, Layer::kObjects, {0, 0, 0}));
+  g.addOrUpdateNode(makeNode(o2, Layer::kObjects, {1, 0, 0}));
+  g.addOrUpdateNode(makeNode(NodeId('c', 3), Layer::kAgents));
+  check(g);
+  const MergeRecord record = g.mergeNodes(o1, o2);
+  check(g);
+  ASSERT_TRUE(g.undoMerge(record).ok());
+  check(g);
+  for (const NodeId id : g.nodesInLayer(Layer::kAgents)) {
+    if (id.index() % 2 == 0) g.removeNode(id);
+  }
+  EXPECT_TRUE(g.removeNode(NodeId('c', 3)));
+  check(g);
+  const SceneGraph copy = g;
+  check(copy);
 }
 
 // The source's children move to the target, and go back on undo.

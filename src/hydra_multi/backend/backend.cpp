@@ -253,7 +253,9 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     const DeformationWarmStart last = lastRound(graph, team, false);
     for (const PoseGraphEdge& e : merges) {
       const auto verdict = last.verdicts.find({e.from, e.to});
-      if (verdict != last.verdicts.end()) warm.verdicts.insert(*verdict);
+      if (verdict == last.verdicts.end()) continue;
+      warm.verdicts.insert(*verdict);
+      if (verdict->second) held_out.erase(verdict->first);  // kept last round: known
     }
   }
   const DeformationResult result = optimizeDeformationGraph(graph, options_.deformation, held_out,

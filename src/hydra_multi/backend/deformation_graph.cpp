@@ -219,10 +219,10 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
       const auto it = warm->verdicts.find({e.from, e.to});
       if (it != warm->verdicts.end()) verdict = it->second;
     }
-    if (verdict == true) {
-      solver.known_inlier[k] = true;
-    } else if (verdict == false || held_out.count({e.from, e.to})) {
+    if (held_out.count({e.from, e.to}) || verdict == false) {
       solver.held_out[k] = true;
+    } else if (verdict == true) {
+      solver.known_inlier[k] = true;
     }
   }
   std::map<NodeId, Eigen::Isometry3d> initial_poses = robust.poses;

@@ -108,7 +108,7 @@ struct DeformationWarmStart {
 };
 
 /// `held_out`: robust factors (from, to) GNC starts without, taken back only if they fit its
-/// result (RobustPgoOptions::held_out), unless `warm` knows them for inliers.
+/// result (RobustPgoOptions::held_out), whatever `warm` says of them.
 DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
                                            const DeformationGraphOptions& options = {},
                                            const std::set<std::pair<NodeId, NodeId>>& held_out = {},

@@ -44,6 +44,8 @@ bool SceneGraph::addOrUpdateNode(Node node) {
   auto it = nodes_.find(node.id);
   if (it == nodes_.end()) {
     const NodeId id = node.id;
+    if (const auto robot = node.robot()) by_robot_[*robot].insert(id);
+    by_layer_[node.layer()].insert(id);
     nodes_.emplace(id, std::move(node));
     adjacency_[id];
     return true;
@@ -62,6 +64,12 @@ bool SceneGraph::removeNode(NodeId id) {
   const std::set<NodeId> neighbours = adjacency_[id];
   for (const NodeId other : neighbours) removeEdge(id, other);
   adjacency_.erase(id);
+  if (const auto robot = it->second.robot()) {
+    const auto of_robot = by_robot_.find(*robot);
+    of_robot->second.erase(id);
+    if (of_robot->second.empty()) by_robot_.erase(of_robot);
+  }
+  by_layer_[it->second.layer()].erase(id);
   nodes_.erase(it);
   return true;
 }
@@ -162,34 +170,27 @@ std::vector<NodeId> SceneGraph::children(NodeId id) const {
 }
 
 std::vector<NodeId> SceneGraph::nodesInLayer(Layer layer) const {
-  std::vector<NodeId> result;
-  for (const auto& [id, node] : nodes_) {
-    if (node.layer() == layer) result.push_back(id);
-  }
-  return result;
+  const auto it = by_layer_.find(layer);
+  if (it == by_layer_.end()) return {};
+  return {it->second.begin(), it->second.end()};
 }
 
 std::vector<NodeId> SceneGraph::nodesOfRobot(RobotId robot) const {
-  std::vector<NodeId> result;
-  for (const auto& [id, node] : nodes_) {
-    if (node.robot() == robot) result.push_back(id);
-  }
-  return result;
+  const auto it = by_robot_.find(robot);
+  if (it == by_robot_.end()) return {};
+  return {it->second.begin(), it->second.end()};
 }
 
 std::vector<RobotId> SceneGraph::robots() const {
   std::set<RobotId> robots;
-  for (const auto& [id, node] : nodes_) {
-    if (const auto robot = node.robot()) robots.insert(*robot);
-  }
+  for (const auto& [robot, ids] : by_robot_) robots.insert(robot);
   for (const MeshVertex& vertex : mesh_.vertices) robots.insert(vertex.robot);
   return {robots.begin(), robots.end()};
 }
 
 size_t SceneGraph::numNodes(Layer layer) const {
-  return static_cast<size_t>(
-      std::count_if(nodes_.begin(), nodes_.end(),
-                    [layer](const auto& entry) { return entry.second.layer() == layer; }));
+  const auto it = by_layer_.find(layer);
+  return it == by_layer_.end() ? 0 : it->second.size();
 }
 
 MergeRecord SceneGraph::mergeNodes(NodeId target, NodeId source) {

@@ -91,6 +91,10 @@ class SceneGraph {
   std::map<NodeId, Node> nodes_;
   std::map<EdgeKey, EdgeAttributes> edges_;
   std::unordered_map<NodeId, std::set<NodeId>> adjacency_;
+  // Node ids by robot and by layer (a node's id and layer never change): nodesOfRobot and
+  // nodesInLayer without a pass over every node.
+  std::map<RobotId, std::set<NodeId>> by_robot_;
+  std::map<Layer, std::set<NodeId>> by_layer_;
   Mesh mesh_;
 };
 
