@@ -9,6 +9,7 @@ packages=(
   nlohmann-json3-dev   # dsg/io: JSON and Spark-DSG JSON
   libcli11-dev         # apps: command line
   libceres-dev libsuitesparse-dev  # optim: pose-graph optimization, sparse Cholesky
+  libopenblas0-serial  # optim: CHOLMOD's dense kernels (Debian's default BLAS is slower)
   libnanoflann-dev     # core: KD-tree nearest neighbours
   libgtest-dev libgmock-dev  # tests
   libzmq3-dev cppzmq-dev     # net: robots and station over ZeroMQ

@@ -82,6 +82,66 @@ TEST(PoseGraphOptimizer, ZeroWeightRemovesAnEdge) {
   EXPECT_LT(problem.squaredResiduals().front(), 1e-12);
 }
 
+// The sparse Levenberg-Marquardt (CHOLMOD) and Ceres' conjugate gradients, two independent
+// solvers, reach the same optimum of a noisy graph, for both residuals.
+TEST(PoseGraphOptimizer, SparseCholeskyAndCeresReachTheSameOptimum) {
+  std::mt19937 rng(83);
+  std::map<NodeId, Eigen::Isometry3d> truth;
+  const PoseGraph g = syntheticGraph(rng, 60, 0.02, truth);
+  const NodeId anchor('x', 0);
+  const auto start = testing::perturbPoses(truth, anchor, 0.05, rng);
+  for (const ResidualType type : {ResidualType::kGeodesic, ResidualType::kChordal}) {
+    PoseGraphOptimizerOptions options;
+    options.residual = type;
+    options.function_tolerance = 1e-14;
+    options.max_iterations = 200;
+    PoseGraphProblem sparse(g, start, anchor, options);
+    const SolveSummary by_cholmod = sparse.solve();
+    options.linear_solver = PoseGraphOptimizerOptions::LinearSolver::kConjugateGradients;
+    options.max_linear_iterations = 1000;
+    PoseGraphProblem ceres(g, start, anchor, options);
+    const SolveSummary by_ceres = ceres.solve();
+    ASSERT_TRUE(by_cholmod.usable) << by_cholmod.message;
+    ASSERT_TRUE(by_ceres.usable) << by_ceres.message;
+    EXPECT_LT(by_cholmod.final_cost, by_cholmod.initial_cost);
+    EXPECT_NEAR(by_cholmod.final_cost, by_ceres.final_cost, 1e-6 * by_ceres.final_cost)
+        << residualTypeName(type);
+    for (const auto& [id, T] : sparse.poses())
+      EXPECT_LT((T.matrix() - ceres.poses().at(id).matrix()).norm(), 1e-5);
+  }
+}
+
+// The sparse solver analyzes the graph once and keeps it: after solves with other weights (zero
+// among them), a solve gives what a new problem gives from the same poses.
+TEST(PoseGraphOptimizer, ASolveAfterOthersWithOtherWeightsIsAsAFirstSolve) {
+  std::mt19937 rng(84);
+  std::map<NodeId, Eigen::Isometry3d> truth;
+  const PoseGraph g = syntheticGraph(rng, 50, 0.02, truth);
+  const NodeId anchor('x', 3);
+  const auto start = testing::perturbPoses(truth, anchor, 0.05, rng);
+  PoseGraphOptimizerOptions options;
+  options.max_iterations = 5;
+  PoseGraphProblem reused(g, start, anchor, options);
+  std::vector<double> weights(g.edges.size(), 1.0);
+  for (size_t k = 0; k < weights.size(); k += 4) weights[k] = 0.0;
+  reused.setWeights(weights);
+  reused.solve();
+  std::vector<double> halves(g.edges.size(), 0.5);
+  reused.setWeights(halves);
+  reused.solve();
+  const auto poses = reused.poses();
+
+  PoseGraphProblem fresh(g, poses, anchor, options);
+  fresh.setWeights(halves);
+  const SolveSummary first = fresh.solve();
+  const SolveSummary again = reused.solve();
+  EXPECT_EQ(first.iterations, again.iterations);
+  EXPECT_NEAR(first.final_cost, again.final_cost, 1e-12 * first.final_cost);
+  for (const auto& [id, T] : fresh.poses())
+    EXPECT_LT((T.matrix() - reused.poses().at(id).matrix()).norm(), 1e-12);
+  EXPECT_LT((reused.poses().at(anchor).matrix() - start.at(anchor).matrix()).norm(), 1e-12);
+}
+
 double optimizedSesyncCost(const std::string& file) {
   auto g2o = io::readG2o(testing::dataDir() + "/pgo/" + file);
   EXPECT_TRUE(g2o.ok()) << g2o.error();

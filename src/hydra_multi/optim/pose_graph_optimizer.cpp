@@ -2,9 +2,12 @@
 
 #include <ceres/ceres.h>
 
+#include <cstdio>
+#include <optional>
 #include <unordered_map>
 
 #include "hydra_multi/optim/residuals.h"
+#include "hydra_multi/optim/sparse_levenberg_marquardt.h"
 
 namespace hydra_multi {
 
@@ -13,25 +16,68 @@ const char* residualTypeName(ResidualType type) {
 }
 
 struct PoseGraphProblem::Impl {
-  struct PoseBlock {
-    Eigen::Quaterniond q;  // Ceres parameter blocks point into these
-    Eigen::Vector3d t;
-  };
   PoseGraphOptimizerOptions options;
   std::vector<NodeId> ids;
   std::unordered_map<NodeId, size_t> index;
-  std::vector<PoseBlock> blocks;
-  std::vector<PoseBlock> initial;
-  // Per edge: the Ceres cost function, the weight wrapper, the residual block (null if excluded),
-  // and the pose indices.
+  std::vector<PoseParameters> blocks;  // Ceres parameter blocks point into these
+  std::vector<PoseParameters> initial;
+  std::optional<size_t> anchor;
+  std::unique_ptr<ceres::Manifold> rotation;
+  // Per edge: its cost (null if excluded), its weight and its poses.
   struct EdgeBlock {
-    ceres::CostFunction* cost = nullptr;  // owned by the problem
-    ceres::LossFunctionWrapper* loss = nullptr;
-    ceres::ResidualBlockId id = nullptr;
+    std::unique_ptr<ceres::CostFunction> cost;
+    double weight = 1.0;
     size_t i = 0, j = 0;
   };
   std::vector<EdgeBlock> edges;
-  ceres::Problem problem;
+  // Sparse Cholesky: our Levenberg-Marquardt, its analysis kept between solves.
+  std::unique_ptr<SparseLevenbergMarquardt> lm;
+  // Conjugate gradients: a Ceres problem, built on its first solve.
+  std::unique_ptr<ceres::Problem> problem;
+  std::vector<ceres::LossFunctionWrapper*> losses;  // per edge, owned by the problem
+
+  static ceres::LossFunction* lossOf(double weight) {
+    // A weight of exactly 1 uses no loss at all (plain least squares).
+    return weight == 1.0 ? nullptr : new ceres::ScaledLoss(nullptr, weight, ceres::TAKE_OWNERSHIP);
+  }
+
+  ceres::Problem& ceresProblem() {
+    if (problem) return *problem;
+    ceres::Problem::Options po;
+    po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    problem = std::make_unique<ceres::Problem>(po);
+    for (auto& block : blocks) {
+      problem->AddParameterBlock(block.q.coeffs().data(), 4, rotation.get());
+      problem->AddParameterBlock(block.t.data(), 3);
+    }
+    losses.assign(edges.size(), nullptr);
+    for (size_t k = 0; k < edges.size(); ++k) {
+      EdgeBlock& e = edges[k];
+      if (!e.cost) continue;
+      losses[k] = new ceres::LossFunctionWrapper(lossOf(e.weight), ceres::TAKE_OWNERSHIP);
+      problem->AddResidualBlock(e.cost.get(), losses[k], blocks[e.i].q.coeffs().data(),
+                                blocks[e.i].t.data(), blocks[e.j].q.coeffs().data(),
+                                blocks[e.j].t.data());
+    }
+    // Gauge: hold the anchor fixed.
+    if (anchor) {
+      problem->SetParameterBlockConstant(blocks[*anchor].q.coeffs().data());
+      problem->SetParameterBlockConstant(blocks[*anchor].t.data());
+    }
+    return *problem;
+  }
+
+  SparseLevenbergMarquardt& sparse() {
+    if (lm) return *lm;
+    std::vector<LmTerm> terms;
+    for (const EdgeBlock& e : edges) {
+      if (e.cost) terms.push_back({e.cost.get(), e.i, e.j});
+    }
+    lm = std::make_unique<SparseLevenbergMarquardt>(blocks.size(), std::move(terms),
+                                                    anchor.value_or(blocks.size()), *rotation);
+    return *lm;
+  }
 };
 
 PoseGraphProblem::PoseGraphProblem(const PoseGraph& graph,
@@ -48,13 +94,10 @@ PoseGraphProblem::PoseGraphProblem(const PoseGraph& graph,
   }
   m.initial = m.blocks;
   // The geodesic cost gives its Jacobian in the tangent space (residuals.h).
-  ceres::Manifold* quaternion_manifold =
-      options.residual == ResidualType::kChordal
-          ? static_cast<ceres::Manifold*>(new ceres::EigenQuaternionManifold)
-          : new LeftQuaternionTangentManifold;
-  for (auto& block : m.blocks) {
-    m.problem.AddParameterBlock(block.q.coeffs().data(), 4, quaternion_manifold);
-    m.problem.AddParameterBlock(block.t.data(), 3);
+  if (options.residual == ResidualType::kChordal) {
+    m.rotation = std::make_unique<ceres::EigenQuaternionManifold>();
+  } else {
+    m.rotation = std::make_unique<LeftQuaternionTangentManifold>();
   }
   m.edges.resize(graph.edges.size());
   for (size_t k = 0; k < graph.edges.size(); ++k) {
@@ -65,19 +108,11 @@ PoseGraphProblem::PoseGraphProblem(const PoseGraph& graph,
     Impl::EdgeBlock& e = m.edges[k];
     e.i = i->second;
     e.j = j->second;
-    e.cost = options.residual == ResidualType::kChordal
-                 ? ChordalResidual::Create(edge.T_from_to, isotropicWeights(edge.information))
-                 : new GeodesicCost(edge.T_from_to, edge.information);
-    e.loss = new ceres::LossFunctionWrapper(nullptr, ceres::TAKE_OWNERSHIP);
-    e.id = m.problem.AddResidualBlock(e.cost, e.loss, m.blocks[e.i].q.coeffs().data(),
-                                      m.blocks[e.i].t.data(), m.blocks[e.j].q.coeffs().data(),
-                                      m.blocks[e.j].t.data());
+    e.cost.reset(options.residual == ResidualType::kChordal
+                     ? ChordalResidual::Create(edge.T_from_to, isotropicWeights(edge.information))
+                     : new GeodesicCost(edge.T_from_to, edge.information));
   }
-  // Gauge: hold the anchor fixed.
-  if (auto a = m.index.find(anchor); a != m.index.end()) {
-    m.problem.SetParameterBlockConstant(m.blocks[a->second].q.coeffs().data());
-    m.problem.SetParameterBlockConstant(m.blocks[a->second].t.data());
-  }
+  if (const auto a = m.index.find(anchor); a != m.index.end()) m.anchor = a->second;
 }
 
 PoseGraphProblem::~PoseGraphProblem() = default;
@@ -89,38 +124,48 @@ void PoseGraphProblem::setOptions(const PoseGraphOptimizerOptions& options) {
 const PoseGraphOptimizerOptions& PoseGraphProblem::options() const { return impl_->options; }
 
 void PoseGraphProblem::setWeights(const std::vector<double>& weights) {
-  for (size_t k = 0; k < impl_->edges.size() && k < weights.size(); ++k) {
-    Impl::EdgeBlock& e = impl_->edges[k];
-    if (!e.id) continue;
-    // A weight of exactly 1 uses no loss at all (plain least squares).
-    e.loss->Reset(weights[k] == 1.0
-                      ? nullptr
-                      : new ceres::ScaledLoss(nullptr, weights[k], ceres::TAKE_OWNERSHIP),
-                  ceres::TAKE_OWNERSHIP);
+  Impl& m = *impl_;
+  for (size_t k = 0; k < m.edges.size() && k < weights.size(); ++k) {
+    if (!m.edges[k].cost) continue;
+    m.edges[k].weight = weights[k];
+    if (m.problem) m.losses[k]->Reset(Impl::lossOf(weights[k]), ceres::TAKE_OWNERSHIP);
   }
 }
 
 SolveSummary PoseGraphProblem::solve() {
-  ceres::Solver::Options options;
-  if (impl_->options.linear_solver ==
-      PoseGraphOptimizerOptions::LinearSolver::kConjugateGradients) {
-    options.linear_solver_type = ceres::CGNR;
-    options.preconditioner_type = ceres::JACOBI;
-    options.max_linear_solver_iterations = impl_->options.max_linear_iterations;
-  } else {
-    options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-    options.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
-  }
-  options.max_num_iterations = impl_->options.max_iterations;
-  options.function_tolerance = impl_->options.function_tolerance;
-  options.gradient_tolerance = impl_->options.gradient_tolerance;
-  options.parameter_tolerance = impl_->options.parameter_tolerance;
-  options.num_threads = impl_->options.num_threads;
-  options.minimizer_progress_to_stdout = impl_->options.verbose;
-  options.logging_type = impl_->options.verbose ? ceres::PER_MINIMIZER_ITERATION : ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, &impl_->problem, &summary);
+  Impl& m = *impl_;
+  const PoseGraphOptimizerOptions& o = m.options;
   SolveSummary result;
+  if (o.linear_solver == PoseGraphOptimizerOptions::LinearSolver::kSparseCholesky) {
+    std::vector<double> weights;
+    for (const Impl::EdgeBlock& e : m.edges) {
+      if (e.cost) weights.push_back(e.weight);
+    }
+    const LmSummary summary = m.sparse().solve(
+        m.blocks, weights,
+        {o.max_iterations, o.function_tolerance, o.gradient_tolerance, o.parameter_tolerance});
+    result.usable = summary.usable;
+    result.message = summary.message;
+    result.iterations = summary.iterations;
+    result.initial_cost = summary.initial_cost;
+    result.final_cost = summary.final_cost;
+    result.time_s = summary.time_s;
+    if (o.verbose) std::fprintf(stderr, "%s\n", summary.message.c_str());
+    return result;
+  }
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::CGNR;
+  options.preconditioner_type = ceres::JACOBI;
+  options.max_linear_solver_iterations = o.max_linear_iterations;
+  options.max_num_iterations = o.max_iterations;
+  options.function_tolerance = o.function_tolerance;
+  options.gradient_tolerance = o.gradient_tolerance;
+  options.parameter_tolerance = o.parameter_tolerance;
+  options.num_threads = o.num_threads;
+  options.minimizer_progress_to_stdout = o.verbose;
+  options.logging_type = o.verbose ? ceres::PER_MINIMIZER_ITERATION : ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &m.ceresProblem(), &summary);
   result.usable = summary.IsSolutionUsable();
   result.message = summary.BriefReport();
   result.iterations = static_cast<int>(summary.iterations.size()) - 1;
@@ -162,7 +207,7 @@ std::vector<double> PoseGraphProblem::squaredResiduals() const {
   std::vector<double> result(impl_->edges.size(), 0.0);
   for (size_t k = 0; k < impl_->edges.size(); ++k) {
     const Impl::EdgeBlock& e = impl_->edges[k];
-    if (!e.id) continue;
+    if (!e.cost) continue;
     const double* parameters[4] = {
         impl_->blocks[e.i].q.coeffs().data(), impl_->blocks[e.i].t.data(),
         impl_->blocks[e.j].q.coeffs().data(), impl_->blocks[e.j].t.data()};
@@ -174,7 +219,7 @@ std::vector<double> PoseGraphProblem::squaredResiduals() const {
 }
 
 bool PoseGraphProblem::edgeIncluded(size_t edge) const {
-  return edge < impl_->edges.size() && impl_->edges[edge].id != nullptr;
+  return edge < impl_->edges.size() && impl_->edges[edge].cost != nullptr;
 }
 
 Result<double> sesyncCost(const std::vector<PoseGraphEdge>& edges,

@@ -1,7 +1,9 @@
 #pragma once
-// SE(3) pose-graph optimization on Ceres: rotations on the quaternion manifold, translations in
-// R^3, sparse Cholesky (SuiteSparse). Each edge may carry a weight (the GNC weights of gnc.h); the
-// problem stays built between solves, so GNC re-solves only change weights.
+// SE(3) pose-graph optimization: rotations on a quaternion manifold, translations in R^3, Ceres'
+// residuals. Sparse Cholesky solves run our Levenberg-Marquardt on CHOLMOD
+// (sparse_levenberg_marquardt.h), conjugate gradients run Ceres. Each edge may carry a weight (the
+// GNC weights of gnc.h); the problem, and its sparse analysis, stay between solves, so GNC
+// re-solves only change weights.
 //
 // Gauge: the cost is invariant to one global rigid transform, so one pose (the anchor) is held
 // constant; without that the normal equations are singular.

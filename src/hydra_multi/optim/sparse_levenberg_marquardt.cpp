@@ -1,0 +1,358 @@
+#include "hydra_multi/optim/sparse_levenberg_marquardt.h"
+
+#include <ceres/ceres.h>
+#include <cholmod.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+
+namespace hydra_multi {
+namespace {
+
+using Block = Eigen::Matrix<double, 6, 6>;
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+using JacobianRows = Eigen::Matrix<double, Eigen::Dynamic, 6>;
+constexpr long kNone = -1;
+
+// Ceres' Levenberg-Marquardt constants (Solver::Options defaults), but for the initial radius
+// (Ceres: 1e4; docs/DECISIONS.md "Our own Levenberg-Marquardt on CHOLMOD").
+constexpr double kInitialRadius = 1e6;
+constexpr double kMaxRadius = 1e16;
+constexpr double kMinRadius = 1e-32;
+constexpr double kMinDiagonal = 1e-6;
+constexpr double kMaxDiagonal = 1e32;
+constexpr double kMinRelativeDecrease = 1e-3;
+constexpr int kMaxConsecutiveInvalidSteps = 5;
+constexpr size_t kBothOrderingsFrom = 5000;  // variables
+
+}  // namespace
+
+struct SparseLevenbergMarquardt::Impl {
+  const ceres::Manifold* rotation = nullptr;
+  std::vector<LmTerm> terms;
+  std::vector<long> variable;  // pose -> variable block, kNone for the fixed pose
+  size_t variables = 0;
+  // Per block of H (upper triangle, block row <= block column): where each of its 6 columns
+  // starts in the CHOLMOD value array (its first row; a diagonal block holds rows up to the
+  // column only).
+  std::vector<std::array<long, 6>> block_start;
+  std::vector<long> diagonal_block;  // per variable
+  // Per term: its blocks (i, i), (j, j) and (min, max) of H; kNone where a pose is fixed.
+  struct TermBlocks {
+    long ii = kNone, jj = kNone, ij = kNone;
+  };
+  std::vector<TermBlocks> term_blocks;
+  cholmod_common common;
+  cholmod_sparse* H = nullptr;
+  cholmod_factor* L = nullptr;
+
+  ~Impl() {
+    if (L != nullptr) cholmod_l_free_factor(&L, &common);
+    if (H != nullptr) cholmod_l_free_sparse(&H, &common);
+    cholmod_l_finish(&common);
+  }
+
+  // Adds w * a^T b to block `block` (rows of a's variable, columns of b's).
+  void add(long block, const Block& m, bool diagonal) {
+    if (block == kNone) return;
+    double* x = static_cast<double*>(H->x);
+    const std::array<long, 6>& start = block_start[block];
+    for (int c = 0; c < 6; ++c) {
+      const int rows = diagonal ? c + 1 : 6;
+      for (int r = 0; r < rows; ++r) x[start[c] + r] += m(r, c);
+    }
+  }
+
+  // The residual of term k at `poses` and, if `J_i`/`J_j` are given, its tangent Jacobians.
+  bool evaluate(size_t k, const std::vector<PoseParameters>& poses, Eigen::VectorXd& r,
+                JacobianRows* J_i, JacobianRows* J_j) const {
+    const LmTerm& term = terms[k];
+    const PoseParameters& a = poses[term.i];
+    const PoseParameters& b = poses[term.j];
+    const double* parameters[4] = {a.q.coeffs().data(), a.t.data(), b.q.coeffs().data(),
+                                   b.t.data()};
+    const int m = term.cost->num_residuals();
+    r.resize(m);
+    if (J_i == nullptr) return term.cost->Evaluate(parameters, r.data(), nullptr);
+    Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> q_i(m, 4), q_j(m, 4);
+    Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> t_i(m, 3), t_j(m, 3);
+    const bool free_i = variable[term.i] != kNone, free_j = variable[term.j] != kNone;
+    double* jacobians[4] = {free_i ? q_i.data() : nullptr, free_i ? t_i.data() : nullptr,
+                            free_j ? q_j.data() : nullptr, free_j ? t_j.data() : nullptr};
+    if (!term.cost->Evaluate(parameters, r.data(), jacobians)) return false;
+    Eigen::Matrix<double, 4, 3, Eigen::RowMajor> plus;
+    if (free_i) {
+      rotation->PlusJacobian(a.q.coeffs().data(), plus.data());
+      J_i->resize(m, 6);
+      J_i->leftCols<3>() = q_i * plus;
+      J_i->rightCols<3>() = t_i;
+    }
+    if (free_j) {
+      rotation->PlusJacobian(b.q.coeffs().data(), plus.data());
+      J_j->resize(m, 6);
+      J_j->leftCols<3>() = q_j * plus;
+      J_j->rightCols<3>() = t_j;
+    }
+    return true;
+  }
+
+  // 1/2 sum_k w_k ||r_k||^2; infinity if a residual cannot be evaluated or is not finite.
+  double cost(const std::vector<PoseParameters>& poses, const std::vector<double>& weights) const {
+    double total = 0.0;
+    Eigen::VectorXd r;
+    for (size_t k = 0; k < terms.size(); ++k) {
+      const double w = k < weights.size() ? weights[k] : 1.0;
+      if (w == 0.0) continue;
+      if (!evaluate(k, poses, r, nullptr, nullptr)) return HUGE_VAL;
+      total += 0.5 * w * r.squaredNorm();
+    }
+    return std::isfinite(total) ? total : HUGE_VAL;
+  }
+
+  // H = J^T W J into the CHOLMOD values, g = J^T W r; returns the cost (infinity on failure).
+  double linearize(const std::vector<PoseParameters>& poses, const std::vector<double>& weights,
+                   Eigen::VectorXd& g) {
+    std::fill_n(static_cast<double*>(H->x), H->nzmax, 0.0);
+    g.setZero(static_cast<Eigen::Index>(6 * variables));
+    double total = 0.0;
+    Eigen::VectorXd r;
+    JacobianRows J_i, J_j;
+    for (size_t k = 0; k < terms.size(); ++k) {
+      const double w = k < weights.size() ? weights[k] : 1.0;
+      if (w == 0.0) continue;
+      if (!evaluate(k, poses, r, &J_i, &J_j)) return HUGE_VAL;
+      total += 0.5 * w * r.squaredNorm();
+      const long vi = variable[terms[k].i], vj = variable[terms[k].j];
+      const TermBlocks& b = term_blocks[k];
+      if (vi != kNone) {
+        add(b.ii, w * J_i.transpose() * J_i, true);
+        g.segment<6>(6 * vi) += w * J_i.transpose() * r;
+      }
+      if (vj != kNone) {
+        add(b.jj, w * J_j.transpose() * J_j, true);
+        g.segment<6>(6 * vj) += w * J_j.transpose() * r;
+      }
+      if (vi != kNone && vj != kNone) {
+        const Block m =
+            vi < vj ? Block(w * J_i.transpose() * J_j) : Block(w * J_j.transpose() * J_i);
+        add(b.ij, m, false);
+      }
+    }
+    return std::isfinite(total) ? total : HUGE_VAL;
+  }
+};
+
+SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector<LmTerm> terms,
+                                                   size_t fixed, const ceres::Manifold& rotation)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.rotation = &rotation;
+  m.terms = std::move(terms);
+  cholmod_l_start(&m.common);
+  m.common.print = 0;
+  m.common.error_handler = nullptr;
+  m.variable.assign(num_poses, kNone);
+  for (size_t p = 0; p < num_poses; ++p) {
+    if (p != fixed) m.variable[p] = static_cast<long>(m.variables++);
+  }
+  // The blocks of H: per variable column, its rows (itself, and the variables a term joins it to
+  // from above).
+  std::vector<std::vector<long>> rows(m.variables);
+  for (size_t v = 0; v < m.variables; ++v) rows[v].push_back(static_cast<long>(v));
+  for (const LmTerm& t : m.terms) {
+    const long a = m.variable[t.i], b = m.variable[t.j];
+    if (a == kNone || b == kNone || a == b) continue;
+    rows[std::max(a, b)].push_back(std::min(a, b));
+  }
+  size_t nonzeros = 0;
+  for (auto& list : rows) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    nonzeros += 36 * (list.size() - 1) + 21;
+  }
+  const size_t n = 6 * m.variables;
+  m.H = cholmod_l_allocate_sparse(n, n, nonzeros, /*sorted=*/1, /*packed=*/1, /*stype=*/1,
+                                  CHOLMOD_REAL, &m.common);
+  auto* column_start = static_cast<SuiteSparse_long*>(m.H->p);
+  auto* row_index = static_cast<SuiteSparse_long*>(m.H->i);
+  std::vector<std::vector<long>> block_of(m.variables);  // per column, per row in `rows`
+  long position = 0;
+  for (size_t c = 0; c < m.variables; ++c) {
+    block_of[c].resize(rows[c].size());
+    for (size_t k = 0; k < rows[c].size(); ++k) {
+      block_of[c][k] = static_cast<long>(m.block_start.size());
+      m.block_start.emplace_back();
+    }
+    for (int cc = 0; cc < 6; ++cc) {
+      column_start[6 * c + cc] = position;
+      for (size_t k = 0; k < rows[c].size(); ++k) {
+        const long r = rows[c][k];
+        m.block_start[block_of[c][k]][cc] = position;
+        const int count = r == static_cast<long>(c) ? cc + 1 : 6;
+        for (int rr = 0; rr < count; ++rr) row_index[position++] = 6 * r + rr;
+      }
+    }
+  }
+  column_start[n] = position;
+  m.diagonal_block.resize(m.variables);
+  for (size_t c = 0; c < m.variables; ++c) m.diagonal_block[c] = block_of[c].back();
+  const auto blockOf = [&](long r, long c) {
+    const auto& list = rows[c];
+    const size_t k = std::lower_bound(list.begin(), list.end(), r) - list.begin();
+    return block_of[c][k];
+  };
+  m.term_blocks.resize(m.terms.size());
+  for (size_t k = 0; k < m.terms.size(); ++k) {
+    const long a = m.variable[m.terms[k].i], b = m.variable[m.terms[k].j];
+    Impl::TermBlocks& tb = m.term_blocks[k];
+    if (a != kNone) tb.ii = m.diagonal_block[a];
+    if (b != kNone) tb.jj = m.diagonal_block[b];
+    if (a != kNone && b != kNone && a != b) tb.ij = blockOf(std::min(a, b), std::max(a, b));
+  }
+  // Fill-reducing ordering and symbolic factorization, once: AMD, and on larger graphs METIS too
+  // (the one with the sparser factor is kept); small supernodes merged more than by default.
+  m.common.nrelax[0] = 16;
+  m.common.nrelax[1] = 64;
+  m.common.nrelax[2] = 256;
+  m.common.zrelax[0] = 0.8;
+  m.common.zrelax[1] = 0.2;
+  m.common.zrelax[2] = 0.1;
+  m.common.nmethods = 1;
+  m.common.method[0].ordering = CHOLMOD_AMD;
+  if (m.variables >= kBothOrderingsFrom) {
+    m.common.nmethods = 2;
+    m.common.method[1].ordering = CHOLMOD_METIS;
+  }
+  m.L = cholmod_l_analyze(m.H, &m.common);
+}
+
+SparseLevenbergMarquardt::~SparseLevenbergMarquardt() = default;
+
+LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
+                                          const std::vector<double>& weights,
+                                          const LmOptions& options) {
+  Impl& m = *impl_;
+  const auto start = std::chrono::steady_clock::now();
+  LmSummary summary;
+  const auto finish = [&](const std::string& why) {
+    summary.message = "Levenberg-Marquardt (CHOLMOD): " + why + ", " +
+                      std::to_string(summary.iterations) + " iterations";
+    summary.time_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return summary;
+  };
+  if (m.L == nullptr) return finish("the symbolic factorization failed");
+  const size_t n = 6 * m.variables;
+  Eigen::VectorXd g;
+  double cost = m.linearize(poses, weights, g);
+  summary.initial_cost = summary.final_cost = cost;
+  if (!std::isfinite(cost)) return finish("the initial cost is not finite");
+  summary.usable = true;
+  if (m.variables == 0) return finish("no free poses");
+
+  double radius = kInitialRadius, decrease_factor = 2.0;
+  int invalid_steps = 0;
+  bool linearized = true;
+  std::vector<double> diagonal(n);
+  cholmod_dense* b = cholmod_l_zeros(n, 1, CHOLMOD_REAL, &m.common);
+  std::vector<PoseParameters> candidate = poses;
+  std::string why = "no convergence";
+  while (summary.iterations < options.max_iterations) {
+    if (!linearized) {
+      cost = m.linearize(poses, weights, g);
+      linearized = true;
+    }
+    if (g.lpNorm<Eigen::Infinity>() <= options.gradient_tolerance) {
+      why = "gradient tolerance reached";
+      break;
+    }
+    if (radius < kMinRadius) {
+      why = "trust region radius below its minimum";
+      break;
+    }
+    ++summary.iterations;
+    // (H + D / radius) delta = -g, with H's values kept for the next damping.
+    auto* x = static_cast<double*>(m.H->x);
+    for (size_t v = 0; v < m.variables; ++v) {
+      const std::array<long, 6>& s = m.block_start[m.diagonal_block[v]];
+      for (int c = 0; c < 6; ++c) {
+        double& d = x[s[c] + c];
+        diagonal[6 * v + c] = std::clamp(d, kMinDiagonal, kMaxDiagonal);
+        d += diagonal[6 * v + c] / radius;
+      }
+    }
+    auto* rhs = static_cast<double*>(b->x);
+    for (size_t k = 0; k < n; ++k) rhs[k] = -g[static_cast<Eigen::Index>(k)];
+    const int factorized = cholmod_l_factorize(m.H, m.L, &m.common);
+    const bool positive = factorized && m.common.status == CHOLMOD_OK;
+    cholmod_dense* delta = positive ? cholmod_l_solve(CHOLMOD_A, m.L, b, &m.common) : nullptr;
+    for (size_t v = 0; v < m.variables; ++v) {  // back to H
+      const std::array<long, 6>& s = m.block_start[m.diagonal_block[v]];
+      for (int c = 0; c < 6; ++c) x[s[c] + c] -= diagonal[6 * v + c] / radius;
+    }
+    bool taken = false;
+    if (delta == nullptr && ++invalid_steps >= kMaxConsecutiveInvalidSteps) {
+      why = "the damped normal equations could not be factorized";
+      break;
+    }
+    if (delta != nullptr) {
+      const Eigen::Map<const Eigen::VectorXd> step(static_cast<const double*>(delta->x),
+                                                   static_cast<Eigen::Index>(n));
+      double model_decrease = -step.dot(g);
+      for (size_t k = 0; k < n; ++k) model_decrease += diagonal[k] / radius * step[k] * step[k];
+      model_decrease *= 0.5;
+      double x_norm_sq = 0.0;
+      for (size_t p = 0; p < poses.size(); ++p) {
+        candidate[p] = poses[p];
+        x_norm_sq += poses[p].q.coeffs().squaredNorm() + poses[p].t.squaredNorm();
+        const long v = m.variable[p];
+        if (v == kNone) continue;
+        const Eigen::Vector3d rotation_step = step.segment<3>(6 * v);
+        m.rotation->Plus(poses[p].q.coeffs().data(), rotation_step.data(),
+                         candidate[p].q.coeffs().data());
+        candidate[p].t += step.segment<3>(6 * v + 3);
+      }
+      const double step_norm = step.norm();
+      cholmod_l_free_dense(&delta, &m.common);
+      if (step_norm <=
+          options.parameter_tolerance * (std::sqrt(x_norm_sq) + options.parameter_tolerance)) {
+        why = "parameter tolerance reached";
+        break;
+      }
+      const double new_cost = m.cost(candidate, weights);
+      if (std::isfinite(new_cost)) {
+        invalid_steps = 0;
+        const double decrease = cost - new_cost;
+        const double rho = model_decrease > 0.0 ? decrease / model_decrease : -1.0;
+        taken = rho > kMinRelativeDecrease;
+        if (taken) {
+          std::copy(candidate.begin(), candidate.end(), poses.begin());  // in place
+          const double previous = cost;
+          cost = new_cost;
+          linearized = false;
+          radius = std::min(kMaxRadius,
+                            radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3)));
+          decrease_factor = 2.0;
+          if (std::abs(decrease) <= options.function_tolerance * previous) {
+            why = "function tolerance reached";
+            break;
+          }
+        }
+      } else if (++invalid_steps >= kMaxConsecutiveInvalidSteps) {
+        why = "too many steps whose cost is not finite";
+        break;
+      }
+    }
+    if (!taken) {
+      radius /= decrease_factor;
+      decrease_factor *= 2.0;
+    }
+  }
+  cholmod_l_free_dense(&b, &m.common);
+  summary.final_cost = cost;
+  return finish(why);
+}
+
+}  // namespace hydra_multi

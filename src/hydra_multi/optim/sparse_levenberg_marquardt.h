@@ -1,0 +1,72 @@
+#pragma once
+// Levenberg-Marquardt over SE(3) poses (rotation on a Ceres manifold, translation in R^3) with
+// CHOLMOD's sparse Cholesky, for pose graphs whose factors change only their weights:
+//   minimize  1/2 sum_k w_k ||r_k(x_i, x_j)||^2
+//   step      (H + D / radius) delta = -g,  H = J^T W J,  g = J^T W r,  D = diag(H) clamped to
+//             [1e-6, 1e32]; x <- x [+] delta (the manifold's Plus, tangent order [rotation, t])
+//   radius    from 1e6, then as Ceres' Levenberg-Marquardt strategy: a step is taken when
+//             rho = actual / model decrease > 1e-3, then radius /= max(1/3, 1 - (2 rho - 1)^3);
+//             else radius /= v, v *= 2. Stops on Ceres' function, gradient and parameter
+//             tolerances, or after max_iterations steps (taken or not).
+// Invariant: the sparsity of H (one 6x6 block per pose and per pair of poses a term joins, whatever
+// its weight, zero included) is fixed at construction, so CHOLMOD orders and analyzes it once and
+// every later factorization, in every solve, is numeric only.
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ceres {
+class CostFunction;
+class Manifold;
+}  // namespace ceres
+
+namespace hydra_multi {
+
+struct PoseParameters {
+  Eigen::Quaterniond q;  ///< Ceres' parameter block order x y z w
+  Eigen::Vector3d t;
+};
+
+/// A factor r(x_i, x_j): its cost function takes the blocks q_i, t_i, q_j, t_j.
+struct LmTerm {
+  const ceres::CostFunction* cost = nullptr;
+  size_t i = 0, j = 0;
+};
+
+struct LmOptions {
+  int max_iterations = 100;
+  double function_tolerance = 1e-4;
+  double gradient_tolerance = 1e-12;
+  double parameter_tolerance = 1e-10;
+};
+
+struct LmSummary {
+  bool usable = false;  ///< the poses are finite and no worse than at the start
+  std::string message;
+  int iterations = 0;  ///< steps tried, taken or not
+  double initial_cost = 0.0, final_cost = 0.0;
+  double time_s = 0.0;
+};
+
+class SparseLevenbergMarquardt {
+ public:
+  /// `fixed`: the pose held constant (the gauge); num_poses for none. `rotation`: the manifold of
+  /// every quaternion block, outliving this.
+  SparseLevenbergMarquardt(size_t num_poses, std::vector<LmTerm> terms, size_t fixed,
+                           const ceres::Manifold& rotation);
+  ~SparseLevenbergMarquardt();
+  SparseLevenbergMarquardt(const SparseLevenbergMarquardt&) = delete;
+  SparseLevenbergMarquardt& operator=(const SparseLevenbergMarquardt&) = delete;
+
+  /// Moves `poses` (one per pose) towards the minimum; `weights`: one per term.
+  LmSummary solve(std::vector<PoseParameters>& poses, const std::vector<double>& weights,
+                  const LmOptions& options);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hydra_multi
