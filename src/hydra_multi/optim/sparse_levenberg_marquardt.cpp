@@ -16,9 +16,8 @@ using Vector6 = Eigen::Matrix<double, 6, 1>;
 using JacobianRows = Eigen::Matrix<double, Eigen::Dynamic, 6>;
 constexpr long kNone = -1;
 
-// Ceres' Levenberg-Marquardt constants (Solver::Options defaults), but for the initial radius
-// (Ceres: 1e4; docs/DECISIONS.md "Our own Levenberg-Marquardt on CHOLMOD").
-constexpr double kInitialRadius = 1e6;
+// Ceres' Levenberg-Marquardt constants (Solver::Options defaults).
+constexpr double kInitialRadius = 1e4;
 constexpr double kMaxRadius = 1e16;
 constexpr double kMinRadius = 1e-32;
 constexpr double kMinDiagonal = 1e-6;

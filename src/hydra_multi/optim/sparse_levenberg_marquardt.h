@@ -4,7 +4,7 @@
 //   minimize  1/2 sum_k w_k ||r_k(x_i, x_j)||^2
 //   step      (H + D / radius) delta = -g,  H = J^T W J,  g = J^T W r,  D = diag(H) clamped to
 //             [1e-6, 1e32]; x <- x [+] delta (the manifold's Plus, tangent order [rotation, t])
-//   radius    from 1e6, then as Ceres' Levenberg-Marquardt strategy: a step is taken when
+//   radius    from 1e4, as Ceres' Levenberg-Marquardt strategy: a step is taken when
 //             rho = actual / model decrease > 1e-3, then radius /= max(1/3, 1 - (2 rho - 1)^3);
 //             else radius /= v, v *= 2. Stops on Ceres' function, gradient and parameter
 //             tolerances, or after max_iterations steps (taken or not).
