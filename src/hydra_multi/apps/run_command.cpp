@@ -229,6 +229,7 @@ int runRun(const RunOptions& o) {
       {"frontend_ms_max", times.frontend_ms_max},
       {"backend_ms_p50", times.backend_ms_p50},
       {"backend_ms_max", times.backend_ms_max},
+      {"backend_last_ms", times.backend_last_ms},
       {"backend_rounds", result.rounds.size()},
       {"peak_memory_mb", times.peak_memory_mb},
       {"wall_s", result.wall_s},
@@ -282,7 +283,8 @@ int runRun(const RunOptions& o) {
             << "  frontend per update   median " << times.frontend_ms_p50 << " ms, max "
             << times.frontend_ms_max << " ms\n"
             << "  backend per round     median " << times.backend_ms_p50 / 1e3 << " s, max "
-            << times.backend_ms_max / 1e3 << " s\n"
+            << times.backend_ms_max / 1e3 << " s; the last, from scratch, "
+            << times.backend_last_ms / 1e3 << " s\n"
             << "  peak memory           " << show(times.peak_memory_mb, 0) << " MB\n"
             << "  bandwidth             " << sent.record_bytes
             << " bytes of updates; as full resends " << sent.full_resend_bytes << " bytes, "

@@ -335,6 +335,7 @@ int runStationCommand(const StationCommandOptions& o) {
                                           {"frontend_ms_p50", times.frontend_ms_p50},
                                           {"backend_ms_p50", times.backend_ms_p50},
                                           {"backend_ms_max", times.backend_ms_max},
+                                          {"backend_last_ms", times.backend_last_ms},
                                           {"peak_memory_mb", times.peak_memory_mb},
                                           {"per_robot", robots}};
   std::ofstream(fs::path(o.out) / "station.json") << summary.dump(2) << "\n";

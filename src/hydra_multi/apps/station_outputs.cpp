@@ -20,19 +20,20 @@ Status writeStationOutputs(const std::string& dir, const StationResult& result) 
   }
   std::ofstream timing(out / "timing.csv");
   timing << "kind,index,robot,sequence,robot_time_s,ms,handoff_ms,loop_closures,nodes,poses,"
-            "factors,alignment_ms,build_ms,gnc_ms,whole_graph_ms,graph_ms,rooms_ms\n";
+            "factors,alignment_ms,build_ms,gnc_ms,whole_graph_ms,graph_ms,rooms_ms,from_scratch\n";
   for (size_t i = 0; i < result.updates.size(); ++i) {
     const UpdateTiming& u = result.updates[i];
     timing << "update," << i << "," << u.robot.str() << "," << u.sequence << "," << u.time_ns * 1e-9
            << "," << u.frontend_ms << "," << u.handoff_ms << "," << u.loop_closures
-           << ",,,,,,,,,\n";
+           << ",,,,,,,,,,\n";
   }
   for (const RoundTiming& r : result.rounds) {
     const BackendRoundReport& b = r.report;
     timing << "backend," << r.round << ",,," << r.after_update << "," << b.time_s * 1e3 << ",,"
            << b.inter_robot_inliers << "," << b.nodes << "," << b.variables << "," << b.factors
            << "," << b.alignment_s * 1e3 << "," << b.build_s * 1e3 << "," << b.gnc_s * 1e3 << ","
-           << b.whole_graph_s * 1e3 << "," << b.graph_s * 1e3 << "," << b.rooms_s * 1e3 << "\n";
+           << b.whole_graph_s * 1e3 << "," << b.graph_s * 1e3 << "," << b.rooms_s * 1e3 << ","
+           << (b.from_scratch ? 1 : 0) << "\n";
   }
   if (!timing) return Error{"cannot write " + (out / "timing.csv").string()};
   return Status::Ok();
@@ -81,13 +82,20 @@ Result<std::map<RobotId, RobotBandwidth>> writeBandwidth(const std::string& dir,
 StationTimes stationTimes(const StationResult& result) {
   std::vector<double> frontend_ms, backend_ms;
   for (const UpdateTiming& u : result.updates) frontend_ms.push_back(u.frontend_ms);
-  for (const RoundTiming& r : result.rounds) backend_ms.push_back(r.report.time_s * 1e3);
+  // The rounds while the robots mapped; the last one, from scratch on the final state, apart.
+  const size_t online = result.rounds.size() > 1 && result.rounds.back().report.from_scratch
+                            ? result.rounds.size() - 1
+                            : result.rounds.size();
+  for (size_t k = 0; k < online; ++k) backend_ms.push_back(result.rounds[k].report.time_s * 1e3);
   const ErrorStatistics frontend = errorStatistics(frontend_ms);
   const ErrorStatistics backend = errorStatistics(backend_ms);
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
-  return {frontend.median, frontend.max, backend.median, backend.max,
-          double(usage.ru_maxrss) / 1024.0};
+  StationTimes times{frontend.median, frontend.max, backend.median, backend.max,
+                     double(usage.ru_maxrss) / 1024.0};
+  if (online < result.rounds.size())
+    times.backend_last_ms = result.rounds.back().report.time_s * 1e3;
+  return times;
 }
 
 }  // namespace hydra_multi::apps

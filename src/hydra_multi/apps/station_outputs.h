@@ -26,10 +26,13 @@ int64_t keyframeStamp(const StationResult& result, NodeId keyframe);
 /// with the station's verdicts (`station`; `run` writes its own with the truth's).
 Status writeStationLoopClosures(const std::string& dir, const StationResult& result);
 
-/// Median and maximum, for the summaries: frontend ms per update, backend ms per round.
+/// Median and maximum, for the summaries: frontend ms per update, backend ms per round while the
+/// robots mapped (without the last round when it ran from scratch on the final state: its time is
+/// backend_last_ms, 0 when there was none).
 struct StationTimes {
   double frontend_ms_p50 = 0.0, frontend_ms_max = 0.0, backend_ms_p50 = 0.0, backend_ms_max = 0.0;
   double peak_memory_mb = 0.0;  ///< the process's peak resident set so far (getrusage)
+  double backend_last_ms = 0.0;
 };
 StationTimes stationTimes(const StationResult& result);
 

@@ -131,7 +131,7 @@ std::set<std::pair<NodeId, NodeId>> Backend::alignmentOutliers() const {
 DeformationWarmStart Backend::lastRound(const DeformationGraph& graph, const Team& team,
                                         bool poses) const {
   DeformationWarmStart warm;
-  if (!options_.incremental) return warm;
+  if (!incremental()) return warm;
   std::set<RobotId> kept;  // robots aligned as they were
   for (const auto& [robot, T] : team.T_global_robot) {
     const auto last = last_alignment_.find(robot);
@@ -171,7 +171,7 @@ Backend::Proposals Backend::proposeOnLoopClosureSolve(
   report.verdicts_redecided += solved.solve.known_contradicted;
   report.solves += solved.solve.solves;
   proposals.solved.poses = solved.poses;
-  if (options_.incremental) proposals.solved.verdicts = solved.robust_inlier;
+  if (incremental()) proposals.solved.verdicts = solved.robust_inlier;
   const SolvedNodes nodes =
       solvedNodes(frontend, team.inputs, graph, solved, options_.deformation.link_max_dt_s);
   proposals.candidates = refineObjectMerges(
@@ -205,7 +205,7 @@ void Backend::recordVerdicts(const Team& team, const std::vector<PoseGraphEdge>&
 BackendRoundReport Backend::round(const SceneGraph& frontend,
                                   const std::vector<BackendRobot>& robots,
                                   const std::vector<PoseGraphEdge>& inter_robot, RobotId root,
-                                  const std::vector<double>& support) {
+                                  const std::vector<double>& support, bool from_scratch) {
   const auto start = std::chrono::steady_clock::now();
   auto lap_start = start;
   const auto lap = [&lap_start] {
@@ -215,6 +215,8 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     return s;
   };
   BackendRoundReport report;
+  from_scratch_ = from_scratch;
+  report.from_scratch = from_scratch || !options_.incremental;
   report.robots = robots.size();
   report.inter_robot_loop_closures = inter_robot.size();
 
@@ -248,7 +250,7 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   if (warm.poses.empty()) {
     warm = lastRound(graph, team);
     report.verdicts_known = warm.verdicts.size();
-  } else if (options_.incremental) {
+  } else if (incremental()) {
     // The loop closures as the solve without merges decided them; the merges as the last round.
     const DeformationWarmStart last = lastRound(graph, team, false);
     for (const PoseGraphEdge& e : merges) {

@@ -91,7 +91,8 @@ struct BackendRoundReport {
   /// Incremental rounds: robust factors (loop closures, merges) taken as decided from the last
   /// round, and those of them the solve contradicted and GNC decided again.
   size_t verdicts_known = 0, verdicts_redecided = 0;
-  int solves = 0;  ///< Ceres solves of the round
+  int solves = 0;             ///< Ceres solves of the round
+  bool from_scratch = false;  ///< the round took nothing from the last one
 };
 
 /// A loop closure of a round and GNC's verdict on it: intra-robot ones from the robots' pose
@@ -115,10 +116,11 @@ class Backend {
         }()) {}
 
   /// `support`: one weight per inter-robot loop closure for the alignment's consensus (empty:
-  /// by count).
+  /// by count). `from_scratch`: take no poses or verdicts from the last round (as without
+  /// BackendOptions::incremental), so the result does not depend on when earlier rounds ran.
   BackendRoundReport round(const SceneGraph& frontend, const std::vector<BackendRobot>& robots,
                            const std::vector<PoseGraphEdge>& inter_robot, RobotId root,
-                           const std::vector<double>& support = {});
+                           const std::vector<double>& support = {}, bool from_scratch = false);
 
   const SceneGraph& graph() const { return graph_; }
   const InitialAlignment& alignment() const { return alignment_; }
@@ -154,6 +156,7 @@ class Backend {
   /// its verdicts on robust factors, and with `poses` the poses of `graph`'s skeleton.
   DeformationWarmStart lastRound(const DeformationGraph& graph, const Team& team,
                                  bool poses = true) const;
+  bool incremental() const { return options_.incremental && !from_scratch_; }
   /// The deformation graph without merges solved (its skeleton), and the merge candidates
   /// proposed and checked on that solution.
   Proposals proposeOnLoopClosureSolve(const SceneGraph& frontend, const Team& team,
@@ -174,6 +177,7 @@ class Backend {
   std::map<std::pair<NodeId, NodeId>, bool> inliers_;
   std::vector<AcceptedMerge> merges_;
   std::vector<LoopClosureVerdict> verdicts_;
+  bool from_scratch_ = false;  // this round's
   // For the next round (BackendOptions::incremental): per node of the deformation graph, the
   // last solve's motion of it (optimized * initial^-1, global frame); per robot, that of its
   // latest keyframe, and its alignment; the loop closures' verdicts.

@@ -29,6 +29,7 @@ struct Snapshot {
   size_t after_update = 0;
   RobotId root;  ///< the robot whose frame should be global (preferredRoot)
   std::map<RobotId, RobotProgress> progress;
+  bool last = false;  ///< the final state: its round starts from scratch
 };
 
 Snapshot takeSnapshot(const SceneGraphProcessor& processor, const LoopClosureDetector& detector,
@@ -115,7 +116,7 @@ struct Station::Impl {
   void backendLoop();
   void frontendLoop();
   void process(const RobotUpdate& update, Clock::time_point submitted);
-  void handOff(size_t after_update);
+  void handOff(size_t after_update, bool last = false);
   void endOfInput();
   size_t queued() const;
 
@@ -161,7 +162,7 @@ void Station::Impl::runRound(const Snapshot& s) {
   RoundTiming timing;
   timing.round = result.rounds.size();
   timing.after_update = s.after_update;
-  timing.report = backend.round(s.graph, robots, s.inter_robot, s.root, s.support);
+  timing.report = backend.round(s.graph, robots, s.inter_robot, s.root, s.support, s.last);
   result.rounds.push_back(timing);
   if (options.on_round) {
     options.on_round({backend.graph(), timing, backend.loopClosures(), backend.merges(),
@@ -204,9 +205,10 @@ void Station::Impl::backendLoop() {
   }
 }
 
-void Station::Impl::handOff(size_t after_update) {
+void Station::Impl::handOff(size_t after_update, bool last) {
   Snapshot s = takeSnapshot(processor, detector, after_update, preferredRoot(processor, team_first),
                             options);
+  s.last = last;
   {
     std::lock_guard<std::mutex> lock(handoff_mutex);
     pending = std::move(s);
@@ -292,8 +294,8 @@ void Station::Impl::endOfInput() {
   }
   result.robots = robots.size();
   // The last round runs on the final state, after whatever round is running now (none when no
-  // update ever came).
-  if (processed > 0) handOff(processed);
+  // update ever came), from scratch: the final map does not depend on when rounds ran.
+  if (processed > 0) handOff(processed, true);
   {
     std::lock_guard<std::mutex> lock(handoff_mutex);
     backend_done = true;

@@ -8,7 +8,8 @@
 // meshes, inter-robot loop closures) and goes on; the backend runs a round on it (backend.h). The
 // frontend never waits for the backend. `finish` closes the input: the frontend works off the
 // queue, the detector describes the remaining keyframes and the backend runs one last round on
-// the final state.
+// the final state, from scratch (Backend::round), so the final map is the same whenever the
+// earlier rounds ran.
 // The global frame should be robot a's; each round asks for the first robot with an update applied
 // (backend/initial_alignment.h moves the frame to it once it is aligned), so a robot the station
 // has nothing of never takes the others with it.
