@@ -103,6 +103,10 @@ std::vector<DetectedLoopClosure> LoopClosureDetector::run(const SceneGraphProces
     entry.robot = *robot;
     entry.time_ns = time;
     entry.d = describeKeyframe(graph, id, visual, options_.descriptors);
+    entry.place_bins.assign(static_cast<size_t>(std::max(0, options_.descriptors.place_bins)), 0.0);
+    for (const auto& [bin, weight] : entry.d.place_radii) {
+      if (bin < entry.place_bins.size()) entry.place_bins[bin] = weight;
+    }
     if (auto closure = match(processor, entry)) {
       found.push_back(*closure);
       found_.push_back(*closure);
@@ -112,6 +116,8 @@ std::vector<DetectedLoopClosure> LoopClosureDetector::run(const SceneGraphProces
       for (const BowEntry& b : visual->bow) words.insert(b.word);
       for (const uint32_t w : words) ++word_keyframes_[w];
     }
+    for (const auto& [word, weight] : entry.d.bow)
+      word_postings_[word].emplace_back(static_cast<uint32_t>(described_.size()), weight);
     described_.push_back(std::move(entry));
   }
   pending_ = std::move(later);
@@ -125,14 +131,30 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::match(const SceneGraphPr
   const Entry* best_object = nullptr;
   double best_object_score = 0.0;
   std::vector<std::pair<double, const Entry*>> visual;
-  for (const Entry& candidate : described_) {
+  // Bag-of-words scores through the words' postings: the sum of the bin-wise minima, over the
+  // shared words in increasing order, as histogramScore adds them.
+  std::vector<double> bow_score;
+  if (!query.d.bow.empty()) {
+    bow_score.assign(described_.size(), 0.0);
+    for (const auto& [word, weight] : query.d.bow) {
+      const auto postings = word_postings_.find(word);
+      if (postings == word_postings_.end()) continue;
+      for (const auto& [k, w] : postings->second) bow_score[k] += std::min(weight, w);
+    }
+  }
+  for (size_t k = 0; k < described_.size(); ++k) {
+    const Entry& candidate = described_[k];
     if (!candidate.d.root) continue;
     if (candidate.robot == query.robot &&
         (!options_.detect_intra_robot ||
          std::llabs(query.time_ns - candidate.time_ns) < separation))
       continue;
-    if (histogramScore(query.d.place_radii, candidate.d.place_radii) < options_.place_min_score)
-      continue;
+    // The places' score over every bin (a bin in neither adds exactly 0).
+    double place_score = 0.0;
+    const size_t bins = std::min(query.place_bins.size(), candidate.place_bins.size());
+    for (size_t b = 0; b < bins; ++b)
+      place_score += std::min(query.place_bins[b], candidate.place_bins[b]);
+    if (place_score < options_.place_min_score) continue;
     if (!query.d.object_labels.empty() && !candidate.d.object_labels.empty()) {
       const double score = histogramScore(query.d.object_labels, candidate.d.object_labels);
       if (score >= options_.object_min_score && score > best_object_score) {
@@ -141,7 +163,7 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::match(const SceneGraphPr
       }
     }
     if (!query.d.bow.empty() && !candidate.d.bow.empty()) {
-      const double score = histogramScore(query.d.bow, candidate.d.bow);
+      const double score = bow_score[k];
       if (score >= options_.bow_min_score) visual.emplace_back(score, &candidate);
     }
   }

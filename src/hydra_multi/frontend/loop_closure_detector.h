@@ -24,6 +24,7 @@
 
 #include <map>
 #include <set>
+#include <unordered_map>
 #include <vector>
 
 #include "hydra_multi/frontend/descriptors.h"
@@ -110,6 +111,7 @@ class LoopClosureDetector {
     KeyframeDescriptors d;
     RobotId robot;
     int64_t time_ns = 0;
+    std::vector<double> place_bins;  ///< d.place_radii, every bin (zeros too)
   };
   std::vector<DetectedLoopClosure> run(const SceneGraphProcessor& processor, bool all);
   std::optional<DetectedLoopClosure> match(const SceneGraphProcessor& processor,
@@ -126,6 +128,9 @@ class LoopClosureDetector {
   std::vector<Entry> described_;
   std::vector<NodeId> pending_;                ///< keyframes not described yet, in arrival order
   std::map<uint32_t, size_t> word_keyframes_;  ///< described keyframes holding each word
+  /// Per bag-of-words word, the described keyframes holding it (index in described_, weight):
+  /// a query's bag-of-words score against each of them without passing over the others.
+  std::unordered_map<uint32_t, std::vector<std::pair<uint32_t, double>>> word_postings_;
   /// Objects per label in the graph and in all, counted once per run() (the graph is fixed then).
   std::map<uint32_t, size_t> label_objects_;
   size_t objects_ = 0;
