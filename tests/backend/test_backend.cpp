@@ -26,15 +26,9 @@ class TinyTeam : public ::testing::Test {
     dataset_ = new sim::SimulatedDataset(
         sim::simulateDataset(sim::presetConfig("tiny", 1).value()).value());
     ASSERT_TRUE(sim::writeDataset(*dataset_, dir_->string()).ok());
-    std::vector<RobotUpdate> updates;
-    for (const auto& stream : dataset_->streams)
-      updates.insert(updates.end(), stream.begin(), stream.end());
-    std::stable_sort(
-        updates.begin(), updates.end(),
-        [](const RobotUpdate& a, const RobotUpdate& b) { return a.time_ns < b.time_ns; });
     processor_ = new SceneGraphProcessor();
     LoopClosureDetector detector;
-    for (const RobotUpdate& u : updates) {
+    for (const RobotUpdate& u : updatesInTimeOrder()) {
       const UpdateReport report = processor_->process(u);
       detector.update(*processor_, report.new_keyframes);
     }
@@ -51,14 +45,27 @@ class TinyTeam : public ::testing::Test {
     delete truth_;
   }
 
-  static std::vector<BackendRobot> robots() {
+  // Every robot's updates of the dataset, by robot time.
+  static std::vector<RobotUpdate> updatesInTimeOrder() {
+    std::vector<RobotUpdate> updates;
+    for (const auto& stream : dataset_->streams)
+      updates.insert(updates.end(), stream.begin(), stream.end());
+    std::stable_sort(
+        updates.begin(), updates.end(),
+        [](const RobotUpdate& a, const RobotUpdate& b) { return a.time_ns < b.time_ns; });
+    return updates;
+  }
+
+  // The backend's view of every robot of `processor`.
+  static std::vector<BackendRobot> teamOf(const SceneGraphProcessor& processor) {
     std::vector<BackendRobot> robots;
-    for (const RobotId r : processor_->robots()) {
-      const RobotFrontendState* s = processor_->robot(r);
+    for (const RobotId r : processor.robots()) {
+      const RobotFrontendState* s = processor.robot(r);
       robots.push_back({r, &s->pose_graph, &s->control_points, &s->control_point_edges, &s->mesh});
     }
     return robots;
   }
+  static std::vector<BackendRobot> robots() { return teamOf(*processor_); }
   static BackendOptions options() {
     BackendOptions options;
     options.rooms.min_room_places = 5;  // tiny's rooms hold about 15 places each
@@ -172,12 +179,7 @@ TEST_F(TinyTeam, OneStageAgreesWithTwoStages) {
 // round's verdicts as known, and solve no more often (fewer where GNC has outliers to reject:
 // RobustPoseGraph.KnownVerdictsAreKeptUnlessTheResultContradictsThem).
 TEST_F(TinyTeam, IncrementalRoundsAgreeWithRoundsFromScratch) {
-  std::vector<RobotUpdate> updates;
-  for (const auto& stream : dataset_->streams)
-    updates.insert(updates.end(), stream.begin(), stream.end());
-  std::stable_sort(updates.begin(), updates.end(), [](const RobotUpdate& a, const RobotUpdate& b) {
-    return a.time_ns < b.time_ns;
-  });
+  const std::vector<RobotUpdate> updates = updatesInTimeOrder();
   BackendOptions scratch = options();
   scratch.incremental = false;
   Backend incremental(options()), batch(scratch);
@@ -187,11 +189,7 @@ TEST_F(TinyTeam, IncrementalRoundsAgreeWithRoundsFromScratch) {
   size_t rounds = 0, known_rounds = 0;
   int solves_incremental = 0, solves_batch = 0;
   const auto round = [&] {
-    std::vector<BackendRobot> team;
-    for (const RobotId r : processor.robots()) {
-      const RobotFrontendState* s = processor.robot(r);
-      team.push_back({r, &s->pose_graph, &s->control_points, &s->control_point_edges, &s->mesh});
-    }
+    const std::vector<BackendRobot> team = teamOf(processor);
     const std::vector<PoseGraphEdge> inter = interRobotEdges(detector.loopClosures());
     last_incremental = incremental.round(processor.graph(), team, inter, RobotId(0));
     last_batch = batch.round(processor.graph(), team, inter, RobotId(0));
@@ -224,21 +222,12 @@ TEST_F(TinyTeam, IncrementalRoundsAgreeWithRoundsFromScratch) {
 // updates, every 7) end in the same final map when their last round runs from scratch, as the
 // station's does, and it is the map of one round on the final state.
 TEST_F(TinyTeam, ALastRoundFromScratchDoesNotDependOnEarlierRounds) {
-  std::vector<RobotUpdate> updates;
-  for (const auto& stream : dataset_->streams)
-    updates.insert(updates.end(), stream.begin(), stream.end());
-  std::stable_sort(updates.begin(), updates.end(), [](const RobotUpdate& a, const RobotUpdate& b) {
-    return a.time_ns < b.time_ns;
-  });
+  const std::vector<RobotUpdate> updates = updatesInTimeOrder();
   SceneGraphProcessor processor;
   LoopClosureDetector detector;
   Backend every3(options()), every7(options()), once(options());
   const auto round = [&](Backend& backend, bool from_scratch) {
-    std::vector<BackendRobot> team;
-    for (const RobotId r : processor.robots()) {
-      const RobotFrontendState* s = processor.robot(r);
-      team.push_back({r, &s->pose_graph, &s->control_points, &s->control_point_edges, &s->mesh});
-    }
+    const std::vector<BackendRobot> team = teamOf(processor);
     return backend.round(processor.graph(), team, interRobotEdges(detector.loopClosures()),
                          RobotId(0), {}, from_scratch);
   };

@@ -7,13 +7,21 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 namespace hydra_multi {
 namespace {
 
 using Block = Eigen::Matrix<double, 6, 6>;
 using Vector6 = Eigen::Matrix<double, 6, 1>;
-using JacobianRows = Eigen::Matrix<double, Eigen::Dynamic, 6>;
+// A term's residual and Jacobians on the stack: at most kMaxResiduals rows (the chordal
+// residual's 12; the geodesic one has 6), no allocation per term on the solve's hot path.
+constexpr int kMaxResiduals = 12;
+using Residual = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxResiduals, 1>;
+using JacobianRows = Eigen::Matrix<double, Eigen::Dynamic, 6, 0, kMaxResiduals, 6>;
+template <int Columns>
+using AmbientJacobian =
+    Eigen::Matrix<double, Eigen::Dynamic, Columns, Eigen::RowMajor, kMaxResiduals, Columns>;
 constexpr long kNone = -1;
 
 // Ceres' Levenberg-Marquardt constants (Solver::Options defaults).
@@ -65,8 +73,8 @@ struct SparseLevenbergMarquardt::Impl {
   }
 
   // The residual of term k at `poses` and, if `J_i`/`J_j` are given, its tangent Jacobians.
-  bool evaluate(size_t k, const std::vector<PoseParameters>& poses, Eigen::VectorXd& r,
-                JacobianRows* J_i, JacobianRows* J_j) const {
+  bool evaluate(size_t k, const std::vector<PoseParameters>& poses, Residual& r, JacobianRows* J_i,
+                JacobianRows* J_j) const {
     const LmTerm& term = terms[k];
     const PoseParameters& a = poses[term.i];
     const PoseParameters& b = poses[term.j];
@@ -75,8 +83,8 @@ struct SparseLevenbergMarquardt::Impl {
     const int m = term.cost->num_residuals();
     r.resize(m);
     if (J_i == nullptr) return term.cost->Evaluate(parameters, r.data(), nullptr);
-    Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> q_i(m, 4), q_j(m, 4);
-    Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> t_i(m, 3), t_j(m, 3);
+    AmbientJacobian<4> q_i(m, 4), q_j(m, 4);
+    AmbientJacobian<3> t_i(m, 3), t_j(m, 3);
     const bool free_i = variable[term.i] != kNone, free_j = variable[term.j] != kNone;
     double* jacobians[4] = {free_i ? q_i.data() : nullptr, free_i ? t_i.data() : nullptr,
                             free_j ? q_j.data() : nullptr, free_j ? t_j.data() : nullptr};
@@ -100,7 +108,7 @@ struct SparseLevenbergMarquardt::Impl {
   // 1/2 sum_k w_k ||r_k||^2; infinity if a residual cannot be evaluated or is not finite.
   double cost(const std::vector<PoseParameters>& poses, const std::vector<double>& weights) const {
     double total = 0.0;
-    Eigen::VectorXd r;
+    Residual r;
     for (size_t k = 0; k < terms.size(); ++k) {
       const double w = k < weights.size() ? weights[k] : 1.0;
       if (w == 0.0) continue;
@@ -116,7 +124,7 @@ struct SparseLevenbergMarquardt::Impl {
     std::fill_n(static_cast<double*>(H->x), H->nzmax, 0.0);
     g.setZero(static_cast<Eigen::Index>(6 * variables));
     double total = 0.0;
-    Eigen::VectorXd r;
+    Residual r;
     JacobianRows J_i, J_j;
     for (size_t k = 0; k < terms.size(); ++k) {
       const double w = k < weights.size() ? weights[k] : 1.0;
@@ -149,6 +157,11 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
   Impl& m = *impl_;
   m.rotation = &rotation;
   m.terms = std::move(terms);
+  for (const LmTerm& t : m.terms) {
+    if (t.cost->num_residuals() > kMaxResiduals)
+      throw std::invalid_argument("SparseLevenbergMarquardt: a term has more than " +
+                                  std::to_string(kMaxResiduals) + " residuals");
+  }
   cholmod_l_start(&m.common);
   m.common.print = 0;
   m.common.error_handler = nullptr;

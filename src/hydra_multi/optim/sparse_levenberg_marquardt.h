@@ -29,7 +29,8 @@ struct PoseParameters {
   Eigen::Vector3d t;
 };
 
-/// A factor r(x_i, x_j): its cost function takes the blocks q_i, t_i, q_j, t_j.
+/// A factor r(x_i, x_j): its cost function takes the blocks q_i, t_i, q_j, t_j and has at most 12
+/// residuals (the constructor throws std::invalid_argument otherwise).
 struct LmTerm {
   const ceres::CostFunction* cost = nullptr;
   size_t i = 0, j = 0;
