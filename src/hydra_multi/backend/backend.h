@@ -91,7 +91,7 @@ struct BackendRoundReport {
   /// Incremental rounds: robust factors (loop closures, merges) taken as decided from the last
   /// round, and those of them the solve contradicted and GNC decided again.
   size_t verdicts_known = 0, verdicts_redecided = 0;
-  int solves = 0;             ///< Ceres solves of the round
+  int solves = 0;             ///< pose-graph solves of the round (GNC's included)
   bool from_scratch = false;  ///< the round took nothing from the last one
 };
 
