@@ -2,8 +2,8 @@
 // without a backend, then backend rounds on the final state, with the time of every stage
 // (alignment, graph assembly, GNC, the whole-graph solve, the backend graph, rooms), the size
 // of the deformation graph, the robust factors taken as decided from the last round and those
-// decided again, and the Ceres solves. With --every K, a round also runs after every K updates,
-// as an online station whose backend keeps up would run them. Build in Release (`make
+// decided again, and the pose-graph solves. With --every K, a round also runs after every K
+// updates, as an online station whose backend keeps up would run them. Build in Release (`make
 // bench-backend`).
 //
 //   bench_backend DATASET_DIR [--rounds N] [--every K] [--config FILE] [--verbose]
