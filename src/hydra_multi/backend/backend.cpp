@@ -64,8 +64,11 @@ bool sameTransform(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
 
 void Backend::rememberForNextRound(const SceneGraph& frontend, const DeformationGraph& graph,
                                    const DeformationResult& result,
+                                   const std::map<NodeId, Eigen::Isometry3d>& proposal_poses,
                                    const std::map<RobotId, Eigen::Isometry3d>& T_global_robot) {
   corrections_.clear();
+  skeleton_corrections_.clear();
+  proposal_corrections_.clear();
   latest_corrections_.clear();
   last_verdicts_.clear();
   last_alignment_ = T_global_robot;
@@ -73,6 +76,16 @@ void Backend::rememberForNextRound(const SceneGraph& frontend, const Deformation
   for (const auto& [id, pose] : result.poses) {
     const auto initial = graph.initial.find(id);
     if (initial != graph.initial.end()) corrections_[id] = pose * initial->second.inverse();
+  }
+  for (const auto& [id, pose] : result.solve.poses) {
+    const auto initial = graph.initial.find(id);
+    if (initial != graph.initial.end())
+      skeleton_corrections_[id] = pose * initial->second.inverse();
+  }
+  for (const auto& [id, pose] : proposal_poses) {
+    const auto initial = graph.skeleton.poses.find(id);
+    if (initial != graph.skeleton.poses.end())
+      proposal_corrections_[id] = pose * initial->second.inverse();
   }
   for (const auto& [robot, T] : T_global_robot) {
     int64_t latest = std::numeric_limits<int64_t>::min();
@@ -128,8 +141,8 @@ std::set<std::pair<NodeId, NodeId>> Backend::alignmentOutliers() const {
   return held_out;
 }
 
-DeformationWarmStart Backend::lastRound(const DeformationGraph& graph, const Team& team,
-                                        bool poses) const {
+DeformationWarmStart Backend::lastRound(const DeformationGraph& graph, const Team& team, bool poses,
+                                        std::map<NodeId, Eigen::Isometry3d>* last_proposal) const {
   DeformationWarmStart warm;
   if (!incremental()) return warm;
   std::set<RobotId> kept;  // robots aligned as they were
@@ -154,6 +167,18 @@ DeformationWarmStart Backend::lastRound(const DeformationGraph& graph, const Tea
   for (const auto& [edge, inlier] : last_verdicts_) {
     if (ofKept(edge.first) && ofKept(edge.second)) warm.verdicts[edge] = inlier;
   }
+  if (!poses) return warm;
+  for (const auto& [id, initial] : graph.initial) {
+    if (!ofKept(id)) continue;
+    if (const auto whole = corrections_.find(id); whole != corrections_.end())
+      warm.last_whole[id] = whole->second * initial;
+    if (const auto skeleton = skeleton_corrections_.find(id);
+        skeleton != skeleton_corrections_.end())
+      warm.last_skeleton[id] = skeleton->second * initial;
+    if (const auto proposal = proposal_corrections_.find(id);
+        last_proposal != nullptr && proposal != proposal_corrections_.end())
+      (*last_proposal)[id] = proposal->second * initial;
+  }
   return warm;
 }
 
@@ -165,7 +190,9 @@ Backend::Proposals Backend::proposeOnLoopClosureSolve(
       buildDeformationGraph(frontend, team.inputs, loop_closures, {}, options_.deformation);
   DeformationGraphOptions skeleton = options_.deformation;
   skeleton.final_iterations = 0;
-  const DeformationWarmStart warm = lastRound(graph, team);
+  std::map<NodeId, Eigen::Isometry3d> last_proposal;
+  DeformationWarmStart warm = lastRound(graph, team, true, &last_proposal);
+  for (const auto& [id, pose] : last_proposal) warm.poses[id] = pose;  // this solve's own optimum
   report.verdicts_known = warm.verdicts.size();
   const DeformationResult solved = optimizeDeformationGraph(graph, skeleton, held_out, &warm);
   report.verdicts_redecided += solved.solve.known_contradicted;
@@ -246,13 +273,25 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   if (options_.hold_out_merges) {
     for (const PoseGraphEdge& e : merges) held_out.insert({e.from, e.to});
   }
+  std::map<NodeId, Eigen::Isometry3d> proposal_poses = proposals.solved.poses;
   DeformationWarmStart warm = std::move(proposals.solved);
   if (warm.poses.empty()) {
     warm = lastRound(graph, team);
     report.verdicts_known = warm.verdicts.size();
   } else if (incremental()) {
     // The loop closures as the solve without merges decided them; the merges as the last round.
-    const DeformationWarmStart last = lastRound(graph, team, false);
+    // Poses from the last round's solve with merges, moved as the loop closures' solve moved
+    // them since: P_now P_then^-1 S_then.
+    std::map<NodeId, Eigen::Isometry3d> last_proposal;
+    DeformationWarmStart last = lastRound(graph, team, true, &last_proposal);
+    for (auto& [id, pose] : warm.poses) {
+      const auto then = last_proposal.find(id);
+      const auto skeleton = last.last_skeleton.find(id);
+      if (then != last_proposal.end() && skeleton != last.last_skeleton.end())
+        pose = pose * then->second.inverse() * skeleton->second;
+    }
+    warm.last_whole = std::move(last.last_whole);
+    warm.last_skeleton = std::move(last.last_skeleton);
     for (const PoseGraphEdge& e : merges) {
       const auto verdict = last.verdicts.find({e.from, e.to});
       if (verdict == last.verdicts.end()) continue;
@@ -267,7 +306,7 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   report.whole_graph_s = result.whole_graph_s;
   report.gnc_s = lap() - result.whole_graph_s;
   recordVerdicts(team, inter_robot, result, report);
-  rememberForNextRound(frontend, graph, result, team.T_global_robot);
+  rememberForNextRound(frontend, graph, result, proposal_poses, team.T_global_robot);
 
   // 4. The backend graph, and the merges GNC kept.
   SceneGraph map = optimizedMap(frontend, team.inputs, graph, result.poses, options_.deformation,

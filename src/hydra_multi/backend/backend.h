@@ -153,9 +153,12 @@ class Backend {
   /// Inter-robot loop closures the alignment's consensus rejected: held out of GNC.
   std::set<std::pair<NodeId, NodeId>> alignmentOutliers() const;
   /// Where the last round left the robots aligned as they were (BackendOptions::incremental):
-  /// its verdicts on robust factors, and with `poses` the poses of `graph`'s skeleton.
-  DeformationWarmStart lastRound(const DeformationGraph& graph, const Team& team,
-                                 bool poses = true) const;
+  /// its verdicts on robust factors, and with `poses` the poses of `graph`'s skeleton, those of
+  /// its last two solves (DeformationWarmStart::last_whole, last_skeleton) and, into
+  /// `last_proposal`, those of its loop closures' solve.
+  DeformationWarmStart lastRound(
+      const DeformationGraph& graph, const Team& team, bool poses = true,
+      std::map<NodeId, Eigen::Isometry3d>* last_proposal = nullptr) const;
   bool incremental() const { return options_.incremental && !from_scratch_; }
   /// The deformation graph without merges solved (its skeleton), and the merge candidates
   /// proposed and checked on that solution.
@@ -167,6 +170,7 @@ class Backend {
                       const DeformationResult& result, BackendRoundReport& report);
   void rememberForNextRound(const SceneGraph& frontend, const DeformationGraph& graph,
                             const DeformationResult& result,
+                            const std::map<NodeId, Eigen::Isometry3d>& proposal_poses,
                             const std::map<RobotId, Eigen::Isometry3d>& T_global_robot);
 
   BackendOptions options_;
@@ -179,9 +183,12 @@ class Backend {
   std::vector<LoopClosureVerdict> verdicts_;
   bool from_scratch_ = false;  // this round's
   // For the next round (BackendOptions::incremental): per node of the deformation graph, the
-  // last solve's motion of it (optimized * initial^-1, global frame); per robot, that of its
-  // latest keyframe, and its alignment; the loop closures' verdicts.
+  // motion (optimized * initial^-1, global frame) the last round's whole-graph solve gave it, and
+  // per skeleton node those of GNC's solve with merges and of the loop closures' solve; per
+  // robot, that of its latest keyframe, and its alignment; the loop closures' verdicts.
   std::map<NodeId, Eigen::Isometry3d> corrections_;
+  std::map<NodeId, Eigen::Isometry3d> skeleton_corrections_;
+  std::map<NodeId, Eigen::Isometry3d> proposal_corrections_;
   std::map<RobotId, Eigen::Isometry3d> latest_corrections_;
   std::map<RobotId, Eigen::Isometry3d> last_alignment_;
   std::map<std::pair<NodeId, NodeId>, bool> last_verdicts_;

@@ -228,8 +228,11 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
   std::map<NodeId, Eigen::Isometry3d> initial_poses = robust.poses;
   if (warm != nullptr) {
     for (auto& [id, pose] : initial_poses) {
-      const auto it = warm->poses.find(id);
-      if (it != warm->poses.end()) pose = it->second;
+      if (const auto it = warm->poses.find(id); it != warm->poses.end()) {
+        pose = it->second;
+      } else if (const auto then = warm->last_whole.find(id); then != warm->last_whole.end()) {
+        pose = then->second;  // e.g. an object only merge candidates bring in
+      }
     }
   }
   result.solve = optimizePoseGraph(robust, initial_poses, graph.anchor, solver);
@@ -264,6 +267,19 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
   }
   result.poses = initial;
   if (options.final_iterations == 0) return result;
+  if (warm != nullptr) {
+    // From the earlier whole solution, moved as the skeleton (or the keyframe) moved since.
+    for (auto& [id, pose] : initial) {
+      const auto then = warm->last_whole.find(id);
+      if (then == warm->last_whole.end()) continue;
+      const auto keyframe = graph.observed_by.find(id);
+      const NodeId mover = keyframe == graph.observed_by.end() ? id : keyframe->second;
+      const auto now = result.solve.poses.find(mover);
+      const auto skeleton_then = warm->last_skeleton.find(mover);
+      if (now == result.solve.poses.end() || skeleton_then == warm->last_skeleton.end()) continue;
+      pose = now->second * skeleton_then->second.inverse() * then->second;
+    }
+  }
   RobustPgoOptions plain = options.solver;
   plain.robust = false;
   plain.progress = nullptr;

@@ -102,9 +102,15 @@ struct DeformationResult {
 /// What a solve may take from earlier ones: poses to start from instead of the graph's initial
 /// ones, where it has them, and verdicts on robust factors (from, to): true, a known inlier that
 /// GNC decides again only if its result contradicts it; false, held out (RobustPgoOptions).
+/// `last_whole` and `last_skeleton`: an earlier round's solution of the whole graph and of its
+/// skeleton. The robust solve starts a node `poses` lacks where the earlier whole solution had
+/// it; the whole-graph solve starts a node there moved as the skeleton moved since
+/// (S_now S_then^-1 W_then; a control point by its keyframe), so a round that changed little
+/// starts at the earlier optimum.
 struct DeformationWarmStart {
   std::map<NodeId, Eigen::Isometry3d> poses;
   std::map<std::pair<NodeId, NodeId>, bool> verdicts;
+  std::map<NodeId, Eigen::Isometry3d> last_whole, last_skeleton;
 };
 
 /// `held_out`: robust factors (from, to) GNC starts without, taken back only if they fit its
