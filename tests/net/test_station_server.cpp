@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <filesystem>
 #include <fstream>
@@ -257,6 +258,51 @@ TEST(StationServer, RobotWaitsAndReconnects) {
   EXPECT_EQ(result.counts.appliedTotal(), stream.size());
   EXPECT_GE(client.counts().connections, 1u);
   EXPECT_EQ(client.counts().acknowledged, stream.size());
+  EXPECT_EQ(client.counts().lost_acknowledged, 0u);
+}
+
+// A station that restarts without what it acknowledged (here: no journal) welcomes the robot
+// with less than its ACKs promised: the robot counts and logs the loss, and the station's request
+// for a snapshot still brings the whole map.
+TEST(StationServer, RobotSaysWhenTheStationLostWhatItAcknowledged) {
+  std::string endpoint;
+  {
+    Station probe{StationOptions{}};
+    endpoint = StationServer::create(probe, {}).value()->endpoint();
+  }
+  RobotClientOptions client_options = clientOptions(endpoint);
+  std::vector<std::string> client_log;
+  client_options.log = [&client_log](const std::string& line) { client_log.push_back(line); };
+  RobotClient client(kA, kProvidesAll, client_options);
+  const std::vector<RobotUpdate>& stream = tiny().streams[0];
+  ASSERT_GT(stream.size(), 4u);
+  StationServerOptions options;
+  options.listen = endpoint;
+  {
+    Served forgetful(0, options);
+    for (size_t k = 0; k < 3; ++k) ASSERT_TRUE(client.enqueue(stream[k]));
+    const auto deadline = std::chrono::steady_clock::now() + 5s;
+    while (client.counts().acknowledged < 3 && std::chrono::steady_clock::now() < deadline)
+      client.pump(10ms);
+    ASSERT_EQ(client.counts().acknowledged, 3u);
+  }
+  Served restarted(1, options);
+  for (size_t k = 3; k < stream.size(); ++k) ASSERT_TRUE(client.enqueue(stream[k]));
+  EXPECT_TRUE(client.finish(10s));
+  EXPECT_EQ(client.counts().lost_acknowledged, 3u);
+  EXPECT_TRUE(std::any_of(client_log.begin(), client_log.end(), [](const std::string& line) {
+    return line.find("the station lost updates it had acknowledged") != std::string::npos;
+  }));
+  EXPECT_TRUE(restarted.ended(5s)) << [&] {
+    std::string all;
+    for (const auto& l : client_log) all += "robot: " + l + "\n";
+    for (const auto& l : restarted.log()) all += "station: " + l + "\n";
+    return all;
+  }();
+  Station whole{StationOptions{}};
+  for (const RobotUpdate& u : stream) whole.submit(u);
+  EXPECT_EQ(restarted.finish().frontend_digest, whole.finish().frontend_digest)
+      << "the snapshot brings the whole map";
 }
 
 // Every status_s the station says how each robot is doing: connected, its updates, its bytes;

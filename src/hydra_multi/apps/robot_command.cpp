@@ -218,7 +218,11 @@ int runRobotCommand(const RobotCommandOptions& o) {
             << " snapshots asked for, " << c.acknowledged << " acknowledged, " << c.refused
             << " refused, " << c.connections
             << (c.connections == 1 ? " connection, " : " connections, ") << c.bytes << " bytes"
-            << (c.bye_unanswered ? ", BYE not answered" : "") << "\n";
+            << (c.bye_unanswered ? ", BYE not answered" : "")
+            << (c.lost_acknowledged
+                    ? ", " + std::to_string(c.lost_acknowledged) + " acknowledged and then lost"
+                    : std::string())
+            << "\n";
   if (!client.fatal().empty()) return fail(o.connect + ": " + client.fatal());
   if (!finished) {
     std::ostringstream seconds;

@@ -28,6 +28,7 @@
 #include "hydra_multi/eval/dataset_evaluation.h"
 #include "hydra_multi/eval/trajectory_error.h"
 #include "hydra_multi/sim/dataset_recipe.h"
+#include "hydra_multi/station/frontend_digest.h"
 #include "hydra_multi/station/station.h"
 #include "hydra_multi/station/station_config.h"
 
@@ -232,6 +233,7 @@ int runRun(const RunOptions& o) {
       {"backend_last_ms", times.backend_last_ms},
       {"backend_rounds", result.rounds.size()},
       {"peak_memory_mb", times.peak_memory_mb},
+      {"frontend_digest", digestHex(result.frontend_digest)},
       {"wall_s", result.wall_s},
       {"method", o.baseline.empty() ? o.ablation : o.baseline}};
   metrics.update(extra);

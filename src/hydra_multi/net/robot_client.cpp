@@ -22,6 +22,7 @@ struct Entry {
   std::string packed;   // the same, zstd-compressed (made when first sent to a station taking it)
   bool in_flight = false;
   bool ever_sent = false;
+  bool snapshot = false;  // acknowledged only by the cumulative ACK passing it (see kAck)
   Clock::time_point sent_at;
 };
 
@@ -67,6 +68,7 @@ struct RobotClient::Impl {
                     last_sent = Clock::now();
   double backoff_s = 0.5;
   std::map<uint64_t, Entry> outbox;  // by sequence
+  uint64_t held_before = 0;          // the station's cumulative ACK: it holds every update before
   size_t in_flight = 0;
   std::string fatal;
   bool bye_answered = false;
@@ -104,6 +106,7 @@ void RobotClient::Impl::answerSnapshotRequest(const Message& m) {
     it = outbox.erase(it);
   }
   outbox[snapshot.sequence] = entryOf(io::encodeRobotUpdateBinary(snapshot));
+  outbox[snapshot.sequence].snapshot = true;
   ++counts.snapshots;
   log("the station asked for a snapshot: sending one of every update up to " +
       std::to_string(snapshot.sequence) + " (" +
@@ -167,6 +170,13 @@ void RobotClient::Impl::handle(const Message& m) {
       state = State::kWelcomed;
       zstd = m.zstd && options.compress;
       backoff_s = options.backoff_min_s;
+      if (m.next_sequence < held_before) {
+        counts.lost_acknowledged += held_before - m.next_sequence;
+        log("the station lost updates it had acknowledged: it holds every update before " +
+            std::to_string(m.next_sequence) + ", it had acknowledged every update before " +
+            std::to_string(held_before));
+      }
+      held_before = m.next_sequence;
       // Those the station holds count as acknowledged (their ACK was lost with a connection).
       const auto held = outbox.lower_bound(m.next_sequence);
       counts.acknowledged += static_cast<size_t>(std::distance(outbox.begin(), held));
@@ -183,7 +193,12 @@ void RobotClient::Impl::handle(const Message& m) {
         ++counts.acknowledged;
         return outbox.erase(it);
       };
-      if (auto it = outbox.find(m.sequence); it != outbox.end()) acknowledge(it);
+      held_before = std::max(held_before, m.next_sequence);
+      // An ACK names a sequence, not whether it was a delta or a snapshot: a snapshot that took
+      // the sequence of a delta still in flight is acknowledged only once the station holds
+      // everything up to it.
+      if (auto it = outbox.find(m.sequence); it != outbox.end() && !it->second.snapshot)
+        acknowledge(it);
       for (auto it = outbox.begin(); it != outbox.end() && it->first < m.next_sequence;)
         it = acknowledge(it);
       return;
@@ -326,6 +341,7 @@ bool RobotClient::finish(std::chrono::milliseconds timeout) {
   c.bye_answered = false;
   c.counts.bye_unanswered = false;
   while (c.fatal.empty() && Clock::now() < end && !c.bye_answered) {
+    if (!c.outbox.empty()) first_bye.reset();  // e.g. a snapshot the station asked for on BYE
     if (c.outbox.empty() && first_bye && secondsSince(*first_bye) > bye_wait_s) {
       c.counts.bye_unanswered = true;
       c.log("every update is acknowledged; the station did not answer BYE within " +

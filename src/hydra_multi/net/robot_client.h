@@ -46,6 +46,9 @@ struct RobotClientCounts {
   size_t snapshots = 0;    ///< sent because the station asked for one
   size_t connections = 0;  ///< WELCOMEs
   size_t bytes = 0;        ///< of every message sent
+  /// Updates the station had acknowledged (its cumulative ACK had passed them) and no longer held
+  /// when it welcomed this robot again: a station that lost what it promised to keep (logged).
+  size_t lost_acknowledged = 0;
   /// finish(): every update acknowledged, but the station's answer to BYE never came (it ended
   /// first, or the connection was cut as it answered).
   bool bye_unanswered = false;

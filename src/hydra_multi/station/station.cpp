@@ -9,6 +9,7 @@
 #include <set>
 #include <thread>
 
+#include "hydra_multi/station/frontend_digest.h"
 #include "hydra_multi/station/time_order.h"
 
 namespace hydra_multi {
@@ -370,6 +371,7 @@ StationResult Station::finish() {
     if (const auto* agent = s.processor.graph().getNode(id).find<AgentAttributes>())
       result.keyframe_stamps[id] = agent->timestamp_ns;
   }
+  result.frontend_digest = frontendDigest(s.processor);
   result.wall_s = std::chrono::duration<double>(Clock::now() - s.start).count();
   return std::move(result);
 }

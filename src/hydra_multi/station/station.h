@@ -90,6 +90,7 @@ struct StationResult {
   std::map<std::pair<NodeId, NodeId>, bool> alignment_inliers;    ///< last round's averaging
   std::vector<AcceptedMerge> merges;                              ///< last round's
   std::map<NodeId, int64_t> keyframe_stamps;  ///< every keyframe the frontend holds at the end
+  uint64_t frontend_digest = 0;               ///< of the robots' maps the frontend holds at the end
   std::map<RobotId, RobotFrameAlignment> aligned;
   UpdateCounts counts;
   /// The robot whose frame `graph` is in: robot a's, unless the station had nothing of it when
