@@ -1,11 +1,12 @@
 // The station's journal: what is appended is replayed, in order and byte for byte, also after the
-// journal is closed and opened again; a robot's sequence goes in once; a file that is not a
-// journal is refused, naming it.
+// journal is closed and opened again; a robot's sequence goes in once; which robots said BYE is
+// kept; a file that is not a journal is refused, naming it.
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include "hydra_multi/store/journal.h"
 
@@ -70,6 +71,33 @@ TEST_F(JournalTest, ReplaysWhatWasAppended) {
     }
     EXPECT_EQ(entries[5].robot, RobotId(0));
   }
+}
+
+// A robot's BYE is kept across a reopen, the last one per robot; a robot that sent an update after
+// its BYE (a new process of it) is no longer done.
+TEST_F(JournalTest, KeepsWhichRobotsAreDone) {
+  {
+    auto journal = Journal::open(path());
+    ASSERT_TRUE(journal.ok());
+    ASSERT_TRUE(journal.value()->append(entry(0, 0)).ok());
+    ASSERT_TRUE(journal.value()->append(entry(1, 0)).ok());
+    ASSERT_TRUE(journal.value()->markDone(RobotId(0), 5).ok());
+    ASSERT_TRUE(journal.value()->markDone(RobotId(1), 6).ok());
+    ASSERT_TRUE(journal.value()->markDone(RobotId(1), 7).ok());  // said again: the last counts
+    ASSERT_TRUE(journal.value()->markDone(RobotId(2), 8).ok());  // done without an update
+  }
+  auto journal = Journal::open(path());
+  ASSERT_TRUE(journal.ok());
+  auto done = journal.value()->done();
+  ASSERT_TRUE(done.ok()) << done.error();
+  EXPECT_EQ(done.value(),
+            (std::map<RobotId, uint64_t>{{RobotId(0), 5}, {RobotId(1), 7}, {RobotId(2), 8}}));
+  ASSERT_TRUE(journal.value()->append(entry(1, 1)).ok());  // robot b came back
+  done = journal.value()->done();
+  ASSERT_TRUE(done.ok());
+  EXPECT_EQ(done.value(), (std::map<RobotId, uint64_t>{{RobotId(0), 5}, {RobotId(2), 8}}));
+  EXPECT_EQ(journal.value()->size(), 3u) << "BYEs are not updates";
+  EXPECT_EQ(journal.value()->integrityCheck(), "ok");
 }
 
 // A robot's sequence goes in once; the second append is refused and changes nothing.

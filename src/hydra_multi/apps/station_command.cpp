@@ -34,6 +34,7 @@
 #include "hydra_multi/net/spark_publisher.h"
 #include "hydra_multi/net/station_server.h"
 #include "hydra_multi/station/bandwidth.h"
+#include "hydra_multi/station/frontend_digest.h"
 #include "hydra_multi/station/station_config.h"
 #include "hydra_multi/store/journal.h"
 
@@ -151,6 +152,10 @@ int runStationCommand(const StationCommandOptions& o) {
         {u.robot, epoch, u.sequence, payload, now, u.is_snapshot, wire_bytes});
   };
   server_options.persist = persist;
+  server_options.persist_bye = [&journal, &journal_mutex](RobotId robot, uint64_t epoch) {
+    std::lock_guard<std::mutex> lock(journal_mutex);
+    return journal.value()->markDone(robot, epoch);
+  };
   auto server = net::StationServer::create(station, server_options);
   if (!server) return fail(server.error());
   std::unique_ptr<net::HydraRobots> hydra;
@@ -187,6 +192,13 @@ int runStationCommand(const StationCommandOptions& o) {
     ++replayed;
   });
   if (!read) return fail(read.message());
+  // Robots that said BYE and sent nothing after it: done, as before the restart.
+  auto done = journal.value()->done();
+  if (!done) return fail(done.error());
+  for (const auto& [robot, epoch] : done.value()) {
+    server.value()->holdDone(robot, epoch);
+    std::cerr << "station: robot " << robot.str() << " said BYE before the restart" << std::endl;
+  }
   if (replayed + unreadable > 0)
     std::cerr << "station: resumed from " << journal_path << ": " << replayed << " updates replayed"
               << (unreadable ? ", " + std::to_string(unreadable) + " left out" : "") << std::endl;
@@ -321,6 +333,7 @@ int runStationCommand(const StationCommandOptions& o) {
                                           {"updates_rejected", result.counts.rejected},
                                           {"updates_behind_gap", result.counts.behindGap()},
                                           {"snapshots_requested", counts.snapshots_requested},
+                                          {"updates_superseded", result.counts.superseded},
                                           {"bytes_received", counts.bytes + hydra_bytes},
                                           {"update_bytes", team.wire_bytes},
                                           {"update_record_bytes", team.record_bytes},
@@ -337,6 +350,7 @@ int runStationCommand(const StationCommandOptions& o) {
                                           {"backend_ms_max", times.backend_ms_max},
                                           {"backend_last_ms", times.backend_last_ms},
                                           {"peak_memory_mb", times.peak_memory_mb},
+                                          {"frontend_digest", digestHex(result.frontend_digest)},
                                           {"per_robot", robots}};
   std::ofstream(fs::path(o.out) / "station.json") << summary.dump(2) << "\n";
   size_t refused = 0;

@@ -315,6 +315,13 @@ void StationServer::Impl::handle(const std::string& id, const std::vector<std::s
                           "it said BYE, and update " + std::to_string(h.next) + " is missing");
         return;
       }
+      if (options.persist_bye) {
+        if (Status stored = options.persist_bye(session.robot, session.epoch); !stored) {
+          log("station: robot " + session.robot.str() +
+              " said BYE; the station cannot store it, and does not answer: " + stored.message());
+          return;
+        }
+      }
       counts.robots[session.robot].said_bye = true;
       station.endOfStream(session.robot);
       log("station: robot " + session.robot.str() + " said BYE (" +
@@ -420,6 +427,12 @@ void StationServer::hold(RobotId robot, uint64_t epoch, uint64_t sequence, bool 
   if (!h.holds(sequence, snapshot)) h.add(sequence, snapshot);
   h.epoch = epoch;
   impl_->counts.robots[robot].next_sequence = h.next;
+}
+
+void StationServer::holdDone(RobotId robot, uint64_t epoch) {
+  impl_->held[robot].epoch = epoch;
+  impl_->counts.robots[robot].said_bye = true;
+  impl_->station.endOfStream(robot);
 }
 
 void StationServer::serve(const std::function<bool()>& stop, size_t expect_robots) {

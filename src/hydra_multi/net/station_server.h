@@ -45,6 +45,9 @@ struct StationServerOptions {
   std::function<Status(const RobotUpdate& update, uint64_t epoch, const std::string& record,
                        size_t wire_bytes)>
       persist;
+  /// Stores that a robot said BYE (its process's epoch) before the BYE is answered; an error is
+  /// logged and the BYE left unanswered (the robot says it again).
+  std::function<Status(RobotId robot, uint64_t epoch)> persist_bye;
   /// WELCOME offers zstd: robots may send payloads compressed (payload.h).
   bool accept_zstd = true;
   /// CURVE (keys.h): the station's secret key and the robots' public keys it admits, each one
@@ -101,6 +104,9 @@ class StationServer {
   /// robot is welcomed past it and a resend of it is not handed on again; `epoch`: the robot
   /// process's that sent it (a HELLO of another epoch is a restarted robot).
   void hold(RobotId robot, uint64_t epoch, uint64_t sequence, bool snapshot);
+  /// Marks a robot as done (its BYE, replayed from the journal before serving): it counts towards
+  /// serve()'s expected BYEs until a process of another epoch says HELLO for it.
+  void holdDone(RobotId robot, uint64_t epoch);
 
  private:
   struct Impl;

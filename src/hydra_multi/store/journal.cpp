@@ -15,7 +15,11 @@ constexpr const char* kSchema =
     " arrival_ns INTEGER NOT NULL,"
     " snapshot INTEGER NOT NULL,"
     " wire_bytes INTEGER NOT NULL,"
-    " UNIQUE (robot, sequence, snapshot))";
+    " UNIQUE (robot, sequence, snapshot));"
+    "CREATE TABLE IF NOT EXISTS done ("
+    " robot TEXT PRIMARY KEY,"
+    " epoch INTEGER NOT NULL,"
+    " last_update INTEGER NOT NULL)";  // the updates' last id when the BYE came
 
 // SQLite integers are signed 64-bit; sequences and epochs are stored bit for bit.
 int64_t toSql(uint64_t v) { return static_cast<int64_t>(v); }
@@ -129,6 +133,46 @@ Status Journal::replay(const std::function<void(JournalEntry&&)>& each) const {
   sqlite3_finalize(s);
   if (rc != SQLITE_DONE) return Error{impl_->error("cannot read the journal")};
   return Status::Ok();
+}
+
+Status Journal::markDone(RobotId robot, uint64_t epoch) {
+  sqlite3_stmt* s = nullptr;
+  if (sqlite3_prepare_v2(impl_->db,
+                         "INSERT OR REPLACE INTO done (robot, epoch, last_update) "
+                         "VALUES (?, ?, (SELECT coalesce(max(id), 0) FROM updates))",
+                         -1, &s, nullptr) != SQLITE_OK)
+    return Error{impl_->error("cannot record that robot " + robot.str() + " is done")};
+  const std::string name = robot.str();
+  sqlite3_bind_text(s, 1, name.c_str(), static_cast<int>(name.size()), SQLITE_TRANSIENT);
+  sqlite3_bind_int64(s, 2, toSql(epoch));
+  const int rc = sqlite3_step(s);
+  sqlite3_finalize(s);
+  if (rc != SQLITE_DONE)
+    return Error{impl_->error("cannot record that robot " + robot.str() + " is done")};
+  return Status::Ok();
+}
+
+Result<std::map<RobotId, uint64_t>> Journal::done() const {
+  sqlite3_stmt* s = nullptr;
+  if (sqlite3_prepare_v2(impl_->db,
+                         "SELECT robot, epoch FROM done WHERE NOT EXISTS (SELECT 1 FROM updates "
+                         "WHERE updates.robot = done.robot AND updates.id > done.last_update)",
+                         -1, &s, nullptr) != SQLITE_OK)
+    return Error{impl_->error("cannot read which robots are done")};
+  std::map<RobotId, uint64_t> done;
+  int rc = SQLITE_ROW;
+  while ((rc = sqlite3_step(s)) == SQLITE_ROW) {
+    const char* text = reinterpret_cast<const char*>(sqlite3_column_text(s, 0));
+    const auto robot = RobotId::parse(text ? text : "");
+    if (!robot) {
+      sqlite3_finalize(s);
+      return Error{impl_->path + ": done: unknown robot '" + (text ? text : "") + "'"};
+    }
+    done[*robot] = fromSql(sqlite3_column_int64(s, 1));
+  }
+  sqlite3_finalize(s);
+  if (rc != SQLITE_DONE) return Error{impl_->error("cannot read which robots are done")};
+  return done;
 }
 
 size_t Journal::size() const {

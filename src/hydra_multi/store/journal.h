@@ -5,10 +5,12 @@
 // written before the update is acknowledged, so that a station that restarts on the same folder
 // replays it and loses nothing it acknowledged. A robot's sequence is in the journal at most once
 // as a delta and once as a snapshot (a snapshot the station asked for may carry the sequence of a
-// delta it holds beyond a gap). SQLite stays inside this unit.
+// delta it holds beyond a gap). A second table holds each robot's last BYE, so that a station that
+// restarts after the robots finished knows they did. SQLite stays inside this unit.
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -47,6 +49,13 @@ class Journal {
   Status append(const JournalEntry& entry);
   /// Every entry, in the order it was appended; stops at the first error (a damaged file).
   Status replay(const std::function<void(JournalEntry&&)>& each) const;
+  /// Records that robot `robot`'s process `epoch` said BYE (it sends nothing more), committed
+  /// before the station answers it; a later BYE of the robot replaces it.
+  Status markDone(RobotId robot, uint64_t epoch);
+  /// The robots done: those whose last BYE came after their last update in the journal, with
+  /// the epoch of the process that said it.
+  Result<std::map<RobotId, uint64_t>> done() const;
+  /// Updates in the journal.
   size_t size() const;
   /// SQLite's `PRAGMA integrity_check`: "ok", or what it found.
   std::string integrityCheck() const;
