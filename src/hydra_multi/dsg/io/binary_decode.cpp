@@ -36,12 +36,18 @@ bool readBool(ByteReader& r, const char* what) {
   return v == 1;
 }
 
+// running += the next signed varint of a delta-coded list; refused when the sum leaves int64.
+void addDelta(ByteReader& r, int64_t& running, const char* what) {
+  if (__builtin_add_overflow(running, r.svarint(what), &running))
+    r.fail(std::string(what) + " out of range (the running sum of its deltas overflows)");
+}
+
 std::vector<uint64_t> readIndexList(ByteReader& r) {
   const size_t n = r.count("mesh vertex count", 1);
   std::vector<uint64_t> indices(n);
   int64_t previous = 0;
   for (size_t i = 0; i < n; ++i) {
-    previous += r.svarint("mesh vertex index");
+    addDelta(r, previous, "mesh vertex index");
     if (previous < 0) r.fail("negative mesh vertex index");
     indices[i] = static_cast<uint64_t>(previous);
   }
@@ -118,7 +124,7 @@ MeshDelta readMeshDelta(ByteReader& r) {
     if (label > uint64_t{UINT32_MAX}) in.fail("vertex label does not fit in 32 bits");
     v.label = label == 0 ? MeshVertex::kUnlabeled : static_cast<uint32_t>(label - 1);
     v.robot = RobotId(in.u8("vertex robot"));
-    time += in.svarint("vertex time");
+    addDelta(in, time, "vertex time");
     v.time_ns = time;
     return v;
   });
@@ -127,7 +133,7 @@ MeshDelta readMeshDelta(ByteReader& r) {
   mesh.faces = readList(r, "mesh face", 3, [&previous](ByteReader& in) {
     MeshFace face;
     for (uint32_t& v : face) {
-      previous += in.svarint("face vertex");
+      addDelta(in, previous, "face vertex");
       if (previous < 0 || previous > int64_t{UINT32_MAX}) in.fail("face vertex index out of range");
       v = static_cast<uint32_t>(previous);
     }
