@@ -9,7 +9,7 @@ DATA ?= ../shared/data
 
 CMAKE_FLAGS = -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DHYDRA_MULTI_WERROR=$(WERROR)
 
-.PHONY: all deps build test test-sanitize demo bench bench-robust bench-sim bench-frontend bench-backend bench-journal bench-bandwidth bench-viewer bench-hydra bench-scale viewer-screenshot format clean
+.PHONY: all deps build test test-sanitize test-crash fuzz demo bench bench-robust bench-sim bench-frontend bench-backend bench-journal bench-bandwidth bench-viewer bench-hydra bench-scale viewer-screenshot format clean
 
 all: build
 
@@ -23,6 +23,22 @@ build: deps
 
 test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+# The crash test: KILLS (200) random kill points of the station, a robot or both, seeded by
+# CRASH_SEED (random unless given; printed, so that a failure can be replayed).
+test-crash: build
+	@$(BUILD_DIR)/hydra-multi simulate --preset tiny --seed 4 --out out/crash-test/tiny --quiet > /dev/null
+	@bash tests/apps/crash_test.sh $(BUILD_DIR)/hydra-multi out/crash-test/tiny out/crash-test/run $(or $(KILLS),200) $(CRASH_SEED)
+
+# Every libFuzzer target for SECONDS (60) each under ASan and UBSan (RUNS=N: until N executions,
+# at most SECONDS), built with clang in its own folder (fuzz/README.md); the table goes to
+# out/fuzz/summary.md.
+fuzz: deps
+	@CXX=clang++ CC=clang cmake -S . -B build-fuzz -DHYDRA_MULTI_FUZZ=ON -DHYDRA_MULTI_BUILD_TESTS=OFF \
+	  -DHYDRA_MULTI_VIEWER_PAGE=OFF -DCMAKE_BUILD_TYPE=Debug > /dev/null
+	@cmake --build build-fuzz -j $(JOBS) --target $(addprefix fuzz_,dsgb_records binary_payloads json \
+	  spark_json spark_binary g2o protocol connection) -- --no-print-directory
+	@RUNS=$(RUNS) ./scripts/fuzz.sh build-fuzz out/fuzz $(or $(SECONDS),60) $(JOBS) $(DATA)
 
 # Every test again under AddressSanitizer and UndefinedBehaviorSanitizer (Debug, own build folder).
 test-sanitize: deps

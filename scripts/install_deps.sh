@@ -18,6 +18,7 @@ packages=(
   iproute2 iptables          # tests: robots' links with faults, in network namespaces
   libcpp-httplib-dev         # web: the viewer's HTTP server
   chromium                   # tests: the viewer page in a real browser (headless)
+  clang libclang-rt-dev      # make fuzz: libFuzzer targets under ASan and UBSan
 )
 # The viewer page is built with npm (web/package-lock.json): Node.js 20.19 or newer, as vite
 # needs; Debian's own nodejs only when the machine has none.
