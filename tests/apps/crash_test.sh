@@ -63,6 +63,15 @@ run_team() {
   fi
   local status=0
   for r in a b; do wait "${robot[$r]}" || status=1; done
+  # The station ends once both robots said BYE; one that does not within 60 s (or whose robots
+  # failed) is stopped, and the kill point fails.
+  [ "$status" = 0 ] || kill -TERM "$station" 2> /dev/null
+  for _ in $(seq 600); do kill -0 "$station" 2> /dev/null || break; sleep 0.1; done
+  if kill -0 "$station" 2> /dev/null; then
+    echo "the station did not end within 60 s of its robots" >> "$dir/station_stopped.txt"
+    kill -TERM "$station" 2> /dev/null
+    status=1
+  fi
   wait "$station" || status=1
   return $status
 }
