@@ -41,10 +41,13 @@ struct SparseLevenbergMarquardt::Impl {
   std::vector<LmTerm> terms;
   std::vector<long> variable;  // pose -> variable block, kNone for the fixed pose
   size_t variables = 0;
-  // Per block of H (upper triangle, block row <= block column): where each of its 6 columns
-  // starts in the CHOLMOD value array (its first row; a diagonal block holds rows up to the
-  // column only).
-  std::vector<std::array<long, 6>> block_start;
+  // H is stored permuted, A = P H P^T with P the fill-reducing ordering (postordered), lower
+  // triangle, so that CHOLMOD factorizes A in its natural order without permuting or transposing
+  // it (upper triangle where the factor is simplicial, CHOLMOD's fastest form there). `slot`: per
+  // block of H (block row <= block column), per entry (column-major, 6 c + r; a diagonal block's
+  // entries r <= c only), its index in A's values.
+  std::vector<long> slot;            // 36 per block
+  std::vector<long> permuted;        // scalar index of H -> that of A
   std::vector<long> diagonal_block;  // per variable
   // Per term: its blocks (i, i), (j, j) and (min, max) of H; kNone where a pose is fixed.
   struct TermBlocks {
@@ -61,16 +64,18 @@ struct SparseLevenbergMarquardt::Impl {
     cholmod_l_finish(&common);
   }
 
-  // Adds w * a^T b to block `block` (rows of a's variable, columns of b's).
+  // Adds m to block `block` of H (a diagonal block: its upper triangle).
   void add(long block, const Block& m, bool diagonal) {
     if (block == kNone) return;
     double* x = static_cast<double*>(H->x);
-    const std::array<long, 6>& start = block_start[block];
+    const long* at = &slot[36 * block];
     for (int c = 0; c < 6; ++c) {
       const int rows = diagonal ? c + 1 : 6;
-      for (int r = 0; r < rows; ++r) x[start[c] + r] += m(r, c);
+      for (int r = 0; r < rows; ++r) x[at[6 * c + r]] += m(r, c);
     }
   }
+  // Where H's diagonal entry (c, c) of variable v is in A's values.
+  long diagonalSlot(size_t v, int c) const { return slot[36 * diagonal_block[v] + 7 * c]; }
 
   // The residual of term k at `poses` and, if `J_i`/`J_j` are given, its tangent Jacobians.
   bool evaluate(size_t k, const std::vector<PoseParameters>& poses, Residual& r, JacobianRows* J_i,
@@ -184,30 +189,15 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
     list.erase(std::unique(list.begin(), list.end()), list.end());
     nonzeros += 36 * (list.size() - 1) + 21;
   }
-  const size_t n = 6 * m.variables;
-  m.H = cholmod_l_allocate_sparse(n, n, nonzeros, /*sorted=*/1, /*packed=*/1, /*stype=*/1,
-                                  CHOLMOD_REAL, &m.common);
-  auto* column_start = static_cast<SuiteSparse_long*>(m.H->p);
-  auto* row_index = static_cast<SuiteSparse_long*>(m.H->i);
+  // Block ids, column by column; per block its (row, column) variables.
   std::vector<std::vector<long>> block_of(m.variables);  // per column, per row in `rows`
-  long position = 0;
+  std::vector<std::pair<long, long>> block_at;
   for (size_t c = 0; c < m.variables; ++c) {
-    block_of[c].resize(rows[c].size());
-    for (size_t k = 0; k < rows[c].size(); ++k) {
-      block_of[c][k] = static_cast<long>(m.block_start.size());
-      m.block_start.emplace_back();
-    }
-    for (int cc = 0; cc < 6; ++cc) {
-      column_start[6 * c + cc] = position;
-      for (size_t k = 0; k < rows[c].size(); ++k) {
-        const long r = rows[c][k];
-        m.block_start[block_of[c][k]][cc] = position;
-        const int count = r == static_cast<long>(c) ? cc + 1 : 6;
-        for (int rr = 0; rr < count; ++rr) row_index[position++] = 6 * r + rr;
-      }
+    for (const long r : rows[c]) {
+      block_of[c].push_back(static_cast<long>(block_at.size()));
+      block_at.emplace_back(r, static_cast<long>(c));
     }
   }
-  column_start[n] = position;
   m.diagonal_block.resize(m.variables);
   for (size_t c = 0; c < m.variables; ++c) m.diagonal_block[c] = block_of[c].back();
   const auto blockOf = [&](long r, long c) {
@@ -223,8 +213,58 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
     if (b != kNone) tb.jj = m.diagonal_block[b];
     if (a != kNone && b != kNone && a != b) tb.ij = blockOf(std::min(a, b), std::max(a, b));
   }
-  // Fill-reducing ordering and symbolic factorization, once: AMD, and on larger graphs METIS too
-  // (the one with the sparser factor is kept); small supernodes merged more than by default.
+  const size_t n = 6 * m.variables;
+  // A's block columns in the triangle `stype` (-1 lower, +1 upper), variables placed at
+  // `position`: per column, its blocks (row, H's block) sorted by row.
+  const auto placeBlocks = [&](const std::vector<long>& position, int stype) {
+    std::vector<std::vector<std::pair<long, long>>> columns(m.variables);
+    for (size_t k = 0; k < block_at.size(); ++k) {
+      const long pr = position[block_at[k].first], pc = position[block_at[k].second];
+      const long low = std::min(pr, pc), high = std::max(pr, pc);
+      if (stype < 0) {
+        columns[low].emplace_back(high, static_cast<long>(k));
+      } else {
+        columns[high].emplace_back(low, static_cast<long>(k));
+      }
+    }
+    for (auto& column : columns) std::sort(column.begin(), column.end());
+    return columns;
+  };
+  // A as a CHOLMOD matrix (values zero; only the pattern for `values` false) and, with `values`,
+  // `slot`. An entry (i, j) of A's block at (R, C) is H's entry (i, j) of its block where R is
+  // that block's row variable and R != C, else (j, i); a diagonal block keeps one triangle.
+  const auto store = [&](const std::vector<long>& position, int stype, bool values) {
+    const auto columns = placeBlocks(position, stype);
+    cholmod_sparse* A =
+        cholmod_l_allocate_sparse(n, n, nonzeros, /*sorted=*/1, /*packed=*/1, stype,
+                                  values ? CHOLMOD_REAL : CHOLMOD_PATTERN, &m.common);
+    if (A == nullptr) return A;
+    auto* column_start = static_cast<SuiteSparse_long*>(A->p);
+    auto* row_index = static_cast<SuiteSparse_long*>(A->i);
+    if (values) m.slot.assign(36 * block_at.size(), kNone);
+    long at = 0;
+    for (size_t C = 0; C < m.variables; ++C) {
+      for (int j = 0; j < 6; ++j) {
+        column_start[6 * C + j] = at;
+        for (const auto& [R, k] : columns[C]) {
+          const bool diagonal = R == static_cast<long>(C);
+          const bool as_stored = !diagonal && position[block_at[k].first] == R;
+          const int first = diagonal && stype < 0 ? j : 0;
+          const int last = diagonal && stype > 0 ? j : 5;
+          for (int i = first; i <= last; ++i) {
+            if (values)
+              m.slot[36 * k + (as_stored || (diagonal && stype > 0) ? 6 * j + i : 6 * i + j)] = at;
+            row_index[at++] = 6 * R + i;
+          }
+        }
+      }
+    }
+    column_start[n] = at;
+    if (values) std::fill_n(static_cast<double*>(A->x), at, 0.0);
+    return A;
+  };
+  // Fill-reducing ordering of the variables, once: AMD, and on larger graphs METIS too (the one
+  // with the sparser factor is kept), postordered; small supernodes merged more than by default.
   m.common.nrelax[0] = 16;
   m.common.nrelax[1] = 64;
   m.common.nrelax[2] = 256;
@@ -237,7 +277,44 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
     m.common.nmethods = 2;
     m.common.method[1].ordering = CHOLMOD_METIS;
   }
+  cholmod_sparse* blocks = cholmod_l_allocate_sparse(m.variables, m.variables, block_at.size(), 1,
+                                                     1, 1, CHOLMOD_PATTERN, &m.common);
+  if (blocks == nullptr) return;  // solve() reports it
+  {
+    auto* column_start = static_cast<SuiteSparse_long*>(blocks->p);
+    auto* row_index = static_cast<SuiteSparse_long*>(blocks->i);
+    long at = 0;
+    for (size_t c = 0; c < m.variables; ++c) {
+      column_start[c] = at;
+      for (const long r : rows[c]) row_index[at++] = r;
+    }
+    column_start[m.variables] = at;
+  }
+  m.common.supernodal = CHOLMOD_SIMPLICIAL;  // the ordering only
+  cholmod_factor* ordered = cholmod_l_analyze(blocks, &m.common);
+  cholmod_l_free_sparse(&blocks, &m.common);
+  if (ordered == nullptr) return;
+  std::vector<long> position(m.variables);  // variable -> its place in A
+  const auto* perm = static_cast<const SuiteSparse_long*>(ordered->Perm);
+  for (size_t k = 0; k < m.variables; ++k) position[perm[k]] = static_cast<long>(k);
+  cholmod_l_free_factor(&ordered, &m.common);
+  m.permuted.resize(n);
+  for (size_t v = 0; v < m.variables; ++v) {
+    for (int c = 0; c < 6; ++c) m.permuted[6 * v + c] = 6 * position[v] + c;
+  }
+  // The symbolic factorization of A in its natural order, which the ordering already postordered.
+  m.H = store(position, -1, true);
+  if (m.H == nullptr) return;
+  m.common.supernodal = CHOLMOD_AUTO;
+  m.common.final_asis = 1;  // the factor as computed: no conversion after each factorization
+  m.common.postorder = 0;
+  m.common.nmethods = 1;
+  m.common.method[0].ordering = CHOLMOD_NATURAL;
   m.L = cholmod_l_analyze(m.H, &m.common);
+  if (m.L != nullptr && !m.L->is_super) {
+    cholmod_l_free_sparse(&m.H, &m.common);
+    m.H = store(position, 1, true);
+  }
 }
 
 SparseLevenbergMarquardt::~SparseLevenbergMarquardt() = default;
@@ -255,7 +332,7 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return summary;
   };
-  if (m.L == nullptr) return finish("the symbolic factorization failed");
+  if (m.L == nullptr || m.H == nullptr) return finish("the symbolic factorization failed");
   const size_t n = 6 * m.variables;
   Eigen::VectorXd g;
   double cost = m.linearize(poses, weights, g);
@@ -268,6 +345,7 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
   int invalid_steps = 0;
   bool linearized = true;
   std::vector<double> diagonal(n);
+  Eigen::VectorXd step(static_cast<Eigen::Index>(n));
   cholmod_dense* b = cholmod_l_zeros(n, 1, CHOLMOD_REAL, &m.common);
   std::vector<PoseParameters> candidate = poses;
   std::string why = "no convergence";
@@ -288,21 +366,19 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
     // (H + D / radius) delta = -g, with H's values kept for the next damping.
     auto* x = static_cast<double*>(m.H->x);
     for (size_t v = 0; v < m.variables; ++v) {
-      const std::array<long, 6>& s = m.block_start[m.diagonal_block[v]];
       for (int c = 0; c < 6; ++c) {
-        double& d = x[s[c] + c];
+        double& d = x[m.diagonalSlot(v, c)];
         diagonal[6 * v + c] = std::clamp(d, kMinDiagonal, kMaxDiagonal);
         d += diagonal[6 * v + c] / radius;
       }
     }
-    auto* rhs = static_cast<double*>(b->x);
-    for (size_t k = 0; k < n; ++k) rhs[k] = -g[static_cast<Eigen::Index>(k)];
+    auto* rhs = static_cast<double*>(b->x);  // in A's order
+    for (size_t k = 0; k < n; ++k) rhs[m.permuted[k]] = -g[static_cast<Eigen::Index>(k)];
     const int factorized = cholmod_l_factorize(m.H, m.L, &m.common);
     const bool positive = factorized && m.common.status == CHOLMOD_OK;
     cholmod_dense* delta = positive ? cholmod_l_solve(CHOLMOD_A, m.L, b, &m.common) : nullptr;
     for (size_t v = 0; v < m.variables; ++v) {  // back to H
-      const std::array<long, 6>& s = m.block_start[m.diagonal_block[v]];
-      for (int c = 0; c < 6; ++c) x[s[c] + c] -= diagonal[6 * v + c] / radius;
+      for (int c = 0; c < 6; ++c) x[m.diagonalSlot(v, c)] -= diagonal[6 * v + c] / radius;
     }
     bool taken = false;
     if (delta == nullptr && ++invalid_steps >= kMaxConsecutiveInvalidSteps) {
@@ -310,8 +386,8 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
       break;
     }
     if (delta != nullptr) {
-      const Eigen::Map<const Eigen::VectorXd> step(static_cast<const double*>(delta->x),
-                                                   static_cast<Eigen::Index>(n));
+      const auto* solution = static_cast<const double*>(delta->x);  // in A's order
+      for (size_t k = 0; k < n; ++k) step[static_cast<Eigen::Index>(k)] = solution[m.permuted[k]];
       double model_decrease = -step.dot(g);
       for (size_t k = 0; k < n; ++k) model_decrease += diagonal[k] / radius * step[k] * step[k];
       model_decrease *= 0.5;
