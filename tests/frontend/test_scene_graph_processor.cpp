@@ -310,5 +310,104 @@ TEST(SceneGraphProcessor, AStreamReplayAppliesWhatTheStationApplies) {
   EXPECT_EQ(replay.graph().mesh().vertices.size(), station.robot(robot)->mesh.vertices.size());
 }
 
+// Robot b's state in `hostile` is what it is in `reference` (which had only robot b's stream):
+// every node of b, its mesh, pose graph, deformation graph and descriptors.
+void expectRobotUntouched(const SceneGraphProcessor& hostile, const SceneGraphProcessor& reference,
+                          RobotId robot) {
+  size_t nodes = 0;
+  for (const auto& [id, node] : hostile.graph().nodes()) {
+    if (SceneGraphProcessor::toRobotSide(id)->first != robot) continue;
+    ++nodes;
+    ASSERT_TRUE(reference.graph().hasNode(id)) << id.str();
+    EXPECT_TRUE(node == reference.graph().getNode(id)) << id.str();
+  }
+  EXPECT_EQ(nodes, reference.graph().numNodes());
+  const RobotFrontendState& x = *hostile.robot(robot);
+  const RobotFrontendState& y = *reference.robot(robot);
+  EXPECT_EQ(x.mesh, y.mesh);
+  EXPECT_EQ(x.pose_graph, y.pose_graph);
+  EXPECT_EQ(x.control_points, y.control_points);
+  EXPECT_EQ(x.descriptors, y.descriptors);
+}
+
+// A hostile robot cannot make parent links form a cycle: a node's parent is the one neighbour of
+// a higher layer, and a new parent edge replaces the old one. Edges object -> place -> room ->
+// object leave the object one parent (the room), and every chain of parents goes up and ends.
+// Robot b, mapping meanwhile, is untouched.
+TEST(SceneGraphProcessor, ParentLinksCannotFormACycle) {
+  const auto dataset = sim::simulateDataset(sim::presetConfig("tiny", 1).value());
+  ASSERT_TRUE(dataset.ok());
+  const std::vector<RobotUpdate>& b = dataset.value().streams[1];
+  SceneGraphProcessor hostile, reference;
+  RobotUpdate u = step(kA, 0);
+  const NodeId place('p', 1), place2('p', 2), room('R', 1), object('O', 0);
+  u.graph.nodes.push_back(makeNode(place, Layer::kPlaces, Eigen::Vector3d(0, 1, 0)));
+  u.graph.nodes.push_back(makeNode(place2, Layer::kPlaces, Eigen::Vector3d(0, 2, 0)));
+  u.graph.nodes.push_back(makeNode(room, Layer::kRooms, Eigen::Vector3d(0, 1, 1)));
+  for (const auto& [x, y] : std::vector<std::pair<NodeId, NodeId>>{
+           {object, place}, {place, room}, {room, object}, {place, place2}, {place2, place}})
+    u.graph.edges.push_back({x, y, {}});
+  for (size_t k = 0; k < b.size(); ++k) {
+    if (k == b.size() / 2) {
+      const UpdateReport report = hostile.process(u);
+      EXPECT_EQ(report.outcome, UpdateOutcome::kApplied) << report.message;
+    }
+    ASSERT_EQ(hostile.process(b[k]).outcome, reference.process(b[k]).outcome);
+  }
+  const SceneGraph& g = hostile.graph();
+  EXPECT_EQ(g.parent(NodeId::station('O', kA, 0)), NodeId::station('R', kA, 1));
+  EXPECT_EQ(g.parent(NodeId::station('p', kA, 1)), NodeId::station('R', kA, 1));
+  for (const auto& [id, node] : g.nodes()) {
+    int steps = 0;
+    for (std::optional<NodeId> at = id, up = g.parent(id); up; at = up, up = g.parent(*up)) {
+      EXPECT_GT(layerLevel(g.getNode(*up).layer()), layerLevel(g.getNode(*at).layer()));
+      ASSERT_LE(++steps, 4) << id.str();
+    }
+  }
+  expectRobotUntouched(hostile, reference, kB);
+}
+
+// A robot that sends another robot's ids: its keyframes with the other's prefix are refused whole
+// (logged with the robot and the update); its objects and places with the same ids as the other's
+// are its own (station ids X@robot), and the other robot's map is untouched.
+TEST(SceneGraphProcessor, IdsThatCollideWithAnotherRobots) {
+  const auto dataset = sim::simulateDataset(sim::presetConfig("tiny", 1).value());
+  ASSERT_TRUE(dataset.ok());
+  const std::vector<RobotUpdate>& b = dataset.value().streams[1];
+  std::vector<std::string> log;
+  SceneGraphProcessor hostile({}, [&log](const std::string& line) { log.push_back(line); });
+  SceneGraphProcessor reference;
+  for (size_t k = 0; k < b.size(); ++k) {
+    ASSERT_EQ(hostile.process(b[k]).outcome, reference.process(b[k]).outcome);
+    if (k == 0) {
+      RobotUpdate impostor = b[0];  // robot b's first update, sent as robot a's
+      impostor.robot = kA;
+      const UpdateReport report = hostile.process(impostor);
+      EXPECT_EQ(report.outcome, UpdateOutcome::kRejected);
+      EXPECT_NE(report.message.find("does not carry robot a's prefix"), std::string::npos)
+          << report.message;
+      // Robot a's own first update, its objects numbered as robot b's.
+      RobotUpdate own = step(kA, 0);
+      own.graph.nodes.clear();
+      own.graph.nodes.push_back(keyframe(kA, 0, Eigen::Vector3d::Zero()));
+      for (const Node& n : b[0].graph.nodes) {
+        if (n.layer() == Layer::kObjects || n.layer() == Layer::kPlaces) {
+          Node copy = n;
+          copy.position += Eigen::Vector3d(100, 0, 0);
+          own.graph.nodes.push_back(copy);
+        }
+      }
+      own.graph.edges.clear();
+      EXPECT_EQ(hostile.process(own).outcome, UpdateOutcome::kApplied);
+    }
+  }
+  EXPECT_FALSE(log.empty());
+  for (const Node& n : b[0].graph.nodes) {
+    if (n.layer() != Layer::kObjects && n.layer() != Layer::kPlaces) continue;
+    EXPECT_TRUE(hostile.graph().hasNode(*SceneGraphProcessor::toStation(kA, n.id)));
+  }
+  expectRobotUntouched(hostile, reference, kB);
+}
+
 }  // namespace
 }  // namespace hydra_multi

@@ -139,6 +139,9 @@ struct StationCommandOptions {
   std::string config;                           ///< station configuration file (JSON)
   size_t expect_robots = 0;  ///< end once this many robots said BYE (0: at SIGINT/SIGTERM)
   double max_message_mb = 64.0;
+  double rate_limit = 500.0;        ///< messages per second per connection (0: none)
+  double rate_limit_mb = 0.0;       ///< MB per second per connection (0: none)
+  double handshake_s = 10.0;        ///< a connection's ZeroMQ handshake must end within this
   std::string durability = "full";  ///< full | normal: the journal's SQLite synchronous setting
   std::string keys;  ///< folder of the robots' public keys (a.pub, ...); empty: no authentication
   std::string key;   ///< the station's secret key (with `keys`)

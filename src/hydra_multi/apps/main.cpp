@@ -239,6 +239,18 @@ int main(int argc, char** argv) {
   cli.real(station_cmd, "--max-message-mb", station.max_message_mb, "larger messages are refused",
            {0.0, 4096.0, true})
       ->capture_default_str();
+  cli.real(station_cmd, "--rate-limit", station.rate_limit,
+           "messages per second a connection may send (bursts of two seconds' worth); more are "
+           "dropped unanswered until it slows down (0: no limit)",
+           {0.0, 1e9})
+      ->capture_default_str();
+  cli.real(station_cmd, "--rate-limit-mb", station.rate_limit_mb,
+           "the same in MB per second (0: no limit)", {0.0, 1e6})
+      ->capture_default_str();
+  cli.real(station_cmd, "--handshake-s", station.handshake_s,
+           "a connection that has not completed ZeroMQ's handshake within this time is closed",
+           {0.001, 3600.0})
+      ->capture_default_str();
   station_cmd
       ->add_option("--durability", station.durability,
                    "the journal's SQLite synchronous setting: full (every commit synced) or normal "

@@ -127,6 +127,9 @@ int runStationCommand(const StationCommandOptions& o) {
     server_options.secret_key = secret.value();
   }
   server_options.max_message_bytes = static_cast<size_t>(o.max_message_mb * (1 << 20));
+  server_options.max_messages_per_s = o.rate_limit;
+  server_options.max_bytes_per_s = o.rate_limit_mb * 1e6;
+  server_options.handshake_s = o.handshake_s;
   server_options.log = log;
   net::HydraRobotsOptions hydra_options;
   for (const std::string& text : o.spark_robots) {

@@ -128,6 +128,12 @@ const char* refuseCodeName(RefuseCode code) {
       return "bad_payload";
     case RefuseCode::kNotStored:
       return "not_stored";
+    case RefuseCode::kStaleEpoch:
+      return "stale_epoch";
+    case RefuseCode::kTooFarAhead:
+      return "too_far_ahead";
+    case RefuseCode::kRateLimited:
+      return "rate_limited";
   }
   return "?";
 }
@@ -257,7 +263,7 @@ Result<Message> decodeMessage(const std::vector<std::string>& frames) {
       if (m.type == MessageType::kRefuse) {
         const uint8_t code = r.u8("code");
         if (code < static_cast<uint8_t>(RefuseCode::kTooLarge) ||
-            code > static_cast<uint8_t>(RefuseCode::kNotStored))
+            code > static_cast<uint8_t>(RefuseCode::kRateLimited))
           throw io::DecodeError("unknown refusal code " + std::to_string(code));
         m.code = static_cast<RefuseCode>(code);
       }

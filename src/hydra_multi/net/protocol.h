@@ -55,6 +55,10 @@ enum class RefuseCode : uint8_t {
   kWrongRobot = 5,
   kBadPayload = 6,
   kNotStored = 7,
+  kStaleEpoch = 8,   ///< a message of an older run of the robot's process than its current one
+  kTooFarAhead = 9,  ///< too many updates held beyond a missing one: a snapshot is due first
+  /// Not sent: messages above a connection's rate limit are dropped unanswered, and counted so.
+  kRateLimited = 10,
 };
 /// "too_large", "version", ...: the name counted in station.json.
 const char* refuseCodeName(RefuseCode code);

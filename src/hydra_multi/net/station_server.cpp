@@ -1,5 +1,6 @@
 #include "hydra_multi/net/station_server.h"
 
+#include <algorithm>
 #include <chrono>
 #include <mutex>
 #include <optional>
@@ -26,6 +27,11 @@ struct Session {
   uint64_t epoch = 0;
   bool updated = false;  // an UPDATE arrived since the WELCOME
   Clock::time_point last_heard = Clock::now(), last_sent = Clock::now();
+  // The rate limit's token buckets (messages, bytes), when they were last filled, and the
+  // messages dropped since the last log line about them.
+  double message_tokens = -1.0, byte_tokens = -1.0;
+  Clock::time_point filled = Clock::now(), rate_logged = Clock::now() - std::chrono::hours(1);
+  size_t dropped = 0;
 };
 
 // The updates of a robot the station holds: every one before `next`, and those in `ahead`; the
@@ -74,6 +80,9 @@ struct StationServer::Impl {
   void refuse(const std::string& id, Session& session, RefuseCode code, const std::string& reason,
               uint64_t sequence = kNoSequence);
   void handle(const std::string& id, const std::vector<std::string>& frames);
+  /// Whether a message of `bytes` from this connection is within its rate limit (taking its
+  /// tokens if so); one that is not is counted and, once a second, logged.
+  bool withinRate(Session& session, size_t bytes);
   void onHello(const std::string& id, Session& session, const Message& m);
   void onUpdate(const std::string& id, Session& session, const Message& m);
   void requestSnapshot(const std::string& id, Session& session, const std::string& why);
@@ -173,6 +182,21 @@ void StationServer::Impl::onHello(const std::string& id, Session& session, const
     return refuse(
         id, session, RefuseCode::kWrongRobot,
         "HELLO for robot " + m.robot.str() + " with robot " + session.key_robot->str() + "'s key");
+  // An older run of the robot than the one connected now or done: a process that should have
+  // ended, or a recorded connection played again. (With the current run gone, an older epoch is
+  // taken as a new run: a robot whose clock went back.)
+  if (const Held& current = held[m.robot]; m.epoch < current.epoch) {
+    const bool connected = std::any_of(sessions.begin(), sessions.end(), [&](const auto& s) {
+      return s.first != id && s.second.welcomed && s.second.robot == m.robot;
+    });
+    const bool done = counts.robots[m.robot].said_bye;
+    if (connected || done)
+      return refuse(id, session, RefuseCode::kStaleEpoch,
+                    "HELLO for robot " + m.robot.str() + " of epoch " + std::to_string(m.epoch) +
+                        ", older than its current run's (" + std::to_string(current.epoch) +
+                        "), which " + (connected ? "is connected" : "said BYE") +
+                        ": an old process, or a recorded connection played again");
+  }
   // Another live connection of the same robot is taken over by this one (a robot that
   // reconnected before the station noticed the old connection was gone).
   for (auto it = sessions.begin(); it != sessions.end();) {
@@ -222,6 +246,11 @@ void StationServer::Impl::onUpdate(const std::string& id, Session& session, cons
   if (!session.welcomed)
     return refuse(id, session, RefuseCode::kNoHello,
                   "UPDATE " + std::to_string(m.sequence) + " before HELLO on this connection");
+  if (m.epoch != session.epoch)
+    return refuse(id, session, RefuseCode::kStaleEpoch,
+                  "UPDATE " + std::to_string(m.sequence) + " of epoch " + std::to_string(m.epoch) +
+                      " on a connection of epoch " + std::to_string(session.epoch),
+                  m.sequence);
   auto record = expandPayload(m.payload, options.max_message_bytes);
   if (!record)
     return refuse(id, session, RefuseCode::kBadPayload,
@@ -250,6 +279,13 @@ void StationServer::Impl::onUpdate(const std::string& id, Session& session, cons
   if (h.holds(u.sequence, u.is_snapshot)) {
     ++robot.duplicates;
   } else {
+    if (!u.is_snapshot && u.sequence > h.next && h.ahead.size() >= options.max_ahead)
+      return refuse(id, session, RefuseCode::kTooFarAhead,
+                    "UPDATE " + std::to_string(m.sequence) + ": the station holds " +
+                        std::to_string(h.ahead.size()) + " updates of robot " +
+                        session.robot.str() + " beyond missing update " + std::to_string(h.next) +
+                        " already; a snapshot is due first",
+                    m.sequence);
     if (options.persist) {
       const size_t wire = updateFramingBytes() + m.payload.size();
       if (Status stored = options.persist(u, session.epoch, record.value(), wire); !stored)
@@ -274,6 +310,41 @@ void StationServer::Impl::onUpdate(const std::string& id, Session& session, cons
                         ", and the station lacks " + std::to_string(h.next));
 }
 
+bool StationServer::Impl::withinRate(Session& session, size_t bytes) {
+  const double messages_rate = options.max_messages_per_s, bytes_rate = options.max_bytes_per_s;
+  const double message_burst = 2.0 * messages_rate;
+  const double byte_burst = std::max(2.0 * bytes_rate, double(options.max_message_bytes));
+  const Clock::time_point now = Clock::now();
+  const double elapsed = std::chrono::duration<double>(now - session.filled).count();
+  session.filled = now;
+  if (session.message_tokens < 0.0) {  // a new connection: full buckets
+    session.message_tokens = message_burst;
+    session.byte_tokens = byte_burst;
+  }
+  session.message_tokens =
+      std::min(message_burst, session.message_tokens + elapsed * messages_rate);
+  session.byte_tokens = std::min(byte_burst, session.byte_tokens + elapsed * bytes_rate);
+  const bool messages_ok = messages_rate <= 0.0 || session.message_tokens >= 1.0;
+  const bool bytes_ok = bytes_rate <= 0.0 || session.byte_tokens >= double(bytes);
+  if (messages_ok && bytes_ok) {
+    session.message_tokens -= 1.0;
+    session.byte_tokens -= double(bytes);
+    return true;
+  }
+  ++counts.refused[refuseCodeName(RefuseCode::kRateLimited)];
+  ++session.dropped;
+  if (secondsSince(session.rate_logged) >= 1.0) {
+    std::ostringstream limit;
+    if (!messages_ok) limit << messages_rate << " messages/s";
+    if (!bytes_ok) limit << (messages_ok ? "" : " and ") << bytes_rate / 1e6 << " MB/s";
+    log("station: " + who(session) + " sends faster than " + limit.str() + ": " +
+        std::to_string(session.dropped) + " messages dropped unread since the last such line");
+    session.rate_logged = now;
+    session.dropped = 0;
+  }
+  return false;
+}
+
 void StationServer::Impl::handle(const std::string& id, const std::vector<std::string>& frames) {
   Session& session = sessions[id];
   if (session.number == 0) session.number = ++connections;
@@ -281,6 +352,7 @@ void StationServer::Impl::handle(const std::string& id, const std::vector<std::s
   size_t bytes = 0;
   for (const std::string& f : frames) bytes += f.size();
   counts.bytes += bytes;
+  if (!withinRate(session, bytes)) return;
   if (session.welcomed) {
     counts.robots[session.robot].bytes += bytes;
     held[session.robot].heard = Clock::now();
@@ -401,6 +473,8 @@ Result<std::unique_ptr<StationServer>> StationServer::create(Station& station,
     }
     // A hard cap well above the refusal limit: libzmq drops larger messages (and their sender)
     // before they reach the station, which could not say why.
+    impl->socket.set(zmq::sockopt::handshake_ivl,
+                     static_cast<int>(std::max(1.0, impl->options.handshake_s * 1000.0)));
     impl->socket.set(zmq::sockopt::maxmsgsize,
                      static_cast<int64_t>(2 * impl->options.max_message_bytes + (1 << 20)));
     impl->socket.bind(impl->options.listen);

@@ -13,6 +13,10 @@
 // first update after a HELLO skips what the station lacks, and when a gap stays unfilled for
 // `gap_s`. ZeroMQ stays inside this unit.
 //
+// Epochs: an UPDATE of another epoch than its connection's HELLO, and a HELLO of an epoch older
+// than the robot's current run while that run is connected or has said BYE (an old process, or a
+// recorded connection played again), are refused (`stale_epoch`).
+//
 // Durability: with `persist` (the station's journal, store/journal.h) an update is acknowledged
 // only once persist() has stored it; without, once it is on the Station's ingest queue.
 
@@ -38,6 +42,17 @@ struct StationServerOptions {
   /// Every this many seconds, one progress line per robot: connected, silent for N s or done,
   /// updates applied, bytes received (0: none).
   double status_s = 10.0;
+  /// A connection's messages beyond this rate (per second, with a burst of two seconds' worth)
+  /// are dropped unread and unanswered, counted as `rate_limited` and logged once a second; the
+  /// robot's resends bring its updates once it slows down. 0: no limit.
+  double max_messages_per_s = 500.0;
+  /// The same for bytes per second (the burst at least one message of the largest size). 0: none.
+  double max_bytes_per_s = 0.0;
+  /// A TCP connection that has not completed ZeroMQ's handshake within this time is closed.
+  double handshake_s = 10.0;
+  /// Updates of a robot held beyond a missing one: more are refused (`too_far_ahead`) until a
+  /// snapshot closes the gap (a robot's outbox holds 4096).
+  size_t max_ahead = 4096;
   std::function<void(const std::string&)> log;
   /// Stores an accepted update (its robot, epoch, sequence, its record, expanded if it came
   /// compressed, and the bytes of its message) before it is handed on and acknowledged; an error
