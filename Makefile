@@ -93,6 +93,14 @@ bench-scale: build
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target bench_scale -- --no-print-directory
 	@./scripts/bench_scale.sh $(BUILD_DIR)/hydra-multi $(BUILD_DIR)/bench/bench_scale out/bench-scale $(SEED) $(if $(TEAMS),"$(TEAMS)")
 
+# The station under load: 10 robots (scale 2) at ten times real time and 20 (scale 2) in real
+# time, each robot its own process, into one station on loopback (LOAD_TEAMS="RxS@SPEED ...",
+# SEED=N; about 35 minutes with the defaults).
+LOAD_TEAMS ?= 10x2@10 20x2@1
+bench-load: build
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target bench_load -- --no-print-directory
+	@./scripts/bench_load.sh $(BUILD_DIR)/hydra-multi $(BUILD_DIR)/bench/bench_load out/bench-load $(SEED) "$(LOAD_TEAMS)"
+
 # What the station makes of office-3 when the robots speak as Hydra robots (whole Spark-DSG graphs
 # over ZeroMQ) against our protocol and the file replay, with the bytes each sent (SEED=N,
 # HYDRA_SPEED=X: robot time, 10 by default; about 6 minutes).

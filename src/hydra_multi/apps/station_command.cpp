@@ -23,6 +23,7 @@
 #include <sstream>
 
 #include "hydra_multi/apps/commands.h"
+#include "hydra_multi/apps/load_sampler.h"
 #include "hydra_multi/apps/run_viewer.h"
 #include "hydra_multi/apps/station_outputs.h"
 #include "hydra_multi/apps/stop_signals.h"
@@ -232,6 +233,11 @@ int runStationCommand(const StationCommandOptions& o) {
                     : std::string(", until SIGINT or SIGTERM"))
             << std::endl;
 
+  // The ingest queue, memory and CPU once a second, to tell whether the station keeps up.
+  auto load =
+      LoadSampler::start((fs::path(o.out) / "load.csv").string(),
+                         [&station] { return station.queued(); }, std::chrono::milliseconds(1000));
+  if (!load) return fail(load.error());
   {
     const StopSignals signals;
     if (!hydra) {
@@ -251,6 +257,7 @@ int runStationCommand(const StationCommandOptions& o) {
   if (hydra) hydra->stop();
   log("station: input closed; last backend round");
   const StationResult result = station.finish();
+  load.value()->stop();
   if (publisher) publisher->close();        // the final graph is out; subscribers are told it is
   if (spark) spark->publish(result.graph);  // the final graph once more, as it was written
   if (Status s = viewer->finish(result.graph); !s) return fail(s.message());
@@ -376,7 +383,7 @@ int runStationCommand(const StationCommandOptions& o) {
       << result.robots << "; global frame: robot " << result.global_robot.str() << "'s\n"
       << "outputs in " << o.out
       << ": graph.json, graph.spark.json, mesh.ply, timing.csv, loop_closures.csv, config.json, "
-         "station.json, bandwidth.csv, bandwidth.svg, journal.sqlite\n";
+         "station.json, bandwidth.csv, bandwidth.svg, load.csv, journal.sqlite\n";
   return 0;
 }
 
