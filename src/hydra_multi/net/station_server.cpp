@@ -29,7 +29,8 @@ struct Session {
   Clock::time_point last_heard = Clock::now(), last_sent = Clock::now();
   // The rate limit's token buckets (messages, bytes), when they were last filled, and the
   // messages dropped since the last log line about them.
-  double message_tokens = -1.0, byte_tokens = -1.0;
+  bool buckets_filled = false;
+  double message_tokens = 0.0, byte_tokens = 0.0;
   Clock::time_point filled = Clock::now(), rate_logged = Clock::now() - std::chrono::hours(1);
   size_t dropped = 0;
 };
@@ -312,23 +313,26 @@ void StationServer::Impl::onUpdate(const std::string& id, Session& session, cons
 
 bool StationServer::Impl::withinRate(Session& session, size_t bytes) {
   const double messages_rate = options.max_messages_per_s, bytes_rate = options.max_bytes_per_s;
+  if (messages_rate <= 0.0 && bytes_rate <= 0.0) return true;
   const double message_burst = 2.0 * messages_rate;
   const double byte_burst = std::max(2.0 * bytes_rate, double(options.max_message_bytes));
   const Clock::time_point now = Clock::now();
-  const double elapsed = std::chrono::duration<double>(now - session.filled).count();
-  session.filled = now;
-  if (session.message_tokens < 0.0) {  // a new connection: full buckets
+  if (!session.buckets_filled) {  // a new connection: full buckets
+    session.buckets_filled = true;
     session.message_tokens = message_burst;
     session.byte_tokens = byte_burst;
+  } else {
+    const double elapsed = std::chrono::duration<double>(now - session.filled).count();
+    session.message_tokens =
+        std::min(message_burst, session.message_tokens + elapsed * messages_rate);
+    session.byte_tokens = std::min(byte_burst, session.byte_tokens + elapsed * bytes_rate);
   }
-  session.message_tokens =
-      std::min(message_burst, session.message_tokens + elapsed * messages_rate);
-  session.byte_tokens = std::min(byte_burst, session.byte_tokens + elapsed * bytes_rate);
+  session.filled = now;
   const bool messages_ok = messages_rate <= 0.0 || session.message_tokens >= 1.0;
   const bool bytes_ok = bytes_rate <= 0.0 || session.byte_tokens >= double(bytes);
   if (messages_ok && bytes_ok) {
-    session.message_tokens -= 1.0;
-    session.byte_tokens -= double(bytes);
+    if (messages_rate > 0.0) session.message_tokens -= 1.0;
+    if (bytes_rate > 0.0) session.byte_tokens -= double(bytes);
     return true;
   }
   ++counts.refused[refuseCodeName(RefuseCode::kRateLimited)];
