@@ -48,7 +48,7 @@ for team in $teams; do
   for ((k = 0; k < robots; k++)); do
     r=${letters:$k:1}
     nice -n "$robot_nice" "$bin" robot --dataset "$data" --robot "$r" --connect "$endpoint" --speed "$speed" \
-      --quiet --timeout 600 > "$run/robot-$r.log" 2>&1 &
+      --quiet --timeout 120 > "$run/robot-$r.log" 2>&1 &
     pids+=($!)
   done
   failed=0

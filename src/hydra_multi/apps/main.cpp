@@ -384,7 +384,8 @@ int main(int argc, char** argv) {
            {0.0, 1000.0})
       ->capture_default_str();
   cli.real(robot_cmd, "--timeout", robot.timeout_s,
-           "give up (exit 1) when the station has not taken every update after this many seconds",
+           "give up (exit 1) when the station has not taken every update this many seconds after "
+           "the last one is due (with --speed 0: after the start)",
            {0.0, 86400.0, true})
       ->capture_default_str();
   CLI::Option* robot_key =

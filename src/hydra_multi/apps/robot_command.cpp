@@ -175,8 +175,6 @@ int runRobotCommand(const RobotCommandOptions& o) {
   if (!o.quiet) options.log = [](const std::string& line) { std::cerr << line << std::endl; };
   net::RobotClient client(entry->robot, updates.front().provided_layers, options);
   const Clock::time_point now = Clock::now();
-  const Clock::time_point deadline =
-      now + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.timeout_s));
   // The mission's start on this process's clock.
   Clock::time_point start = now;
   if (o.mission_start_s) {
@@ -186,6 +184,14 @@ int runRobotCommand(const RobotCommandOptions& o) {
                       std::chrono::duration<double>(*o.mission_start_s - unix_now));
   }
   const int64_t first_time = updates.front().time_ns;
+  // The timeout counts from when the last update is due (with --speed 0: from now), so that a
+  // mission in real time is not cut short by it.
+  Clock::time_point last_due = now;
+  if (o.speed > 0.0)
+    last_due = std::max(now, start + std::chrono::nanoseconds(static_cast<int64_t>(
+                                         double(updates.back().time_ns - first_time) / o.speed)));
+  const Clock::time_point deadline = last_due + std::chrono::duration_cast<Clock::duration>(
+                                                    std::chrono::duration<double>(o.timeout_s));
   size_t folded = 0;
   for (const RobotUpdate& u : updates) {
     if (o.speed > 0.0) {
@@ -228,7 +234,8 @@ int runRobotCommand(const RobotCommandOptions& o) {
     std::ostringstream seconds;
     seconds << o.timeout_s;
     return fail(o.connect + ": the station did not take every update within " + seconds.str() +
-                " s (" + std::to_string(client.unacknowledged()) + " unacknowledged)");
+                " s" + (o.speed > 0.0 ? " of the last one's time" : "") + " (" +
+                std::to_string(client.unacknowledged()) + " unacknowledged)");
   }
   return 0;
 }
