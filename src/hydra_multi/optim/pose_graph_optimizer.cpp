@@ -22,6 +22,7 @@ struct PoseGraphProblem::Impl {
   std::vector<PoseParameters> blocks;  // Ceres parameter blocks point into these
   std::vector<PoseParameters> initial;
   std::optional<size_t> anchor;
+  std::vector<bool> constant;  // per block (empty: none), besides the anchor
   std::unique_ptr<ceres::Manifold> rotation;
   // Per edge: its cost (null if excluded), its weight and its poses.
   struct EdgeBlock {
@@ -60,10 +61,12 @@ struct PoseGraphProblem::Impl {
                                 blocks[e.i].t.data(), blocks[e.j].q.coeffs().data(),
                                 blocks[e.j].t.data());
     }
-    // Gauge: hold the anchor fixed.
-    if (anchor) {
-      problem->SetParameterBlockConstant(blocks[*anchor].q.coeffs().data());
-      problem->SetParameterBlockConstant(blocks[*anchor].t.data());
+    // Gauge: hold the anchor fixed, and the poses held constant.
+    const std::vector<bool> fixed = fixedBlocks();
+    for (size_t i = 0; i < fixed.size(); ++i) {
+      if (!fixed[i]) continue;
+      problem->SetParameterBlockConstant(blocks[i].q.coeffs().data());
+      problem->SetParameterBlockConstant(blocks[i].t.data());
     }
     return *problem;
   }
@@ -74,9 +77,16 @@ struct PoseGraphProblem::Impl {
     for (const EdgeBlock& e : edges) {
       if (e.cost) terms.push_back({e.cost.get(), e.i, e.j});
     }
-    lm = std::make_unique<SparseLevenbergMarquardt>(blocks.size(), std::move(terms),
-                                                    anchor.value_or(blocks.size()), *rotation);
+    lm = std::make_unique<SparseLevenbergMarquardt>(blocks.size(), std::move(terms), fixedBlocks(),
+                                                    *rotation);
     return *lm;
+  }
+
+  std::vector<bool> fixedBlocks() const {
+    std::vector<bool> fixed = constant;
+    fixed.resize(blocks.size(), false);
+    if (anchor) fixed[*anchor] = true;
+    return fixed;
   }
 };
 
@@ -189,6 +199,18 @@ PoseGraphProblem& PoseGraphProblem::setPoses(const std::map<NodeId, Eigen::Isome
     impl_->blocks[i->second].q = Eigen::Quaterniond(T.linear()).normalized();
     impl_->blocks[i->second].t = T.translation();
   }
+  return *this;
+}
+
+PoseGraphProblem& PoseGraphProblem::holdConstant(const std::set<NodeId>& ids) {
+  Impl& m = *impl_;
+  m.constant.assign(m.blocks.size(), false);
+  for (const NodeId id : ids) {
+    if (const auto i = m.index.find(id); i != m.index.end()) m.constant[i->second] = true;
+  }
+  m.lm.reset();  // analyzed again for the new free set on the next solve
+  m.problem.reset();
+  m.losses.clear();
   return *this;
 }
 

@@ -10,6 +10,7 @@
 
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -73,6 +74,9 @@ class PoseGraphProblem {
   void resetToInitial();
   /// Moves the poses it has to `poses` (the others stay).
   PoseGraphProblem& setPoses(const std::map<NodeId, Eigen::Isometry3d>& poses);
+  /// Holds these poses constant in later solves, as the anchor (a local solve); replaces the set
+  /// given before.
+  PoseGraphProblem& holdConstant(const std::set<NodeId>& ids);
 
   std::map<NodeId, Eigen::Isometry3d> poses() const;
   /// Unweighted squared residual of every edge at the current poses (0 for excluded edges):

@@ -16,6 +16,7 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
   const auto start = std::chrono::steady_clock::now();
   RobustPgoResult result;
   PoseGraphProblem problem(graph, initial, anchor, options.solver);
+  if (!options.constant.empty()) problem.holdConstant(options.constant);
 
   // Robust factors: the loop closures the problem includes, undecided, held out or known inliers.
   std::vector<size_t> robust_edges, held_out, known;
@@ -115,6 +116,7 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
         if (result.edge_inlier[k]) inliers.edges.push_back(graph.edges[k]);
       }
       PoseGraphProblem polished(inliers, result.poses, anchor, options.solver);
+      if (!options.constant.empty()) polished.holdConstant(options.constant);
       const SolveSummary summary = polished.solve();
       record(summary);
       result.poses = polished.poses();
@@ -201,7 +203,8 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
                                   const std::map<NodeId, Eigen::Isometry3d>& initial, NodeId anchor,
                                   const RobustPgoOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  // Leaves: poses with one edge, a known inlier (not a loop closure), other than the anchor.
+  // Leaves: poses with one edge, a known inlier (not a loop closure), other than the anchor and
+  // the poses held constant.
   std::unordered_map<NodeId, int> degree;
   const auto included = [&](const PoseGraphEdge& e) {
     return e.from != e.to && initial.count(e.from) && initial.count(e.to);
@@ -211,7 +214,9 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
     ++degree[e.from];
     ++degree[e.to];
   }
-  const auto isLeaf = [&](NodeId id) { return id != anchor && degree[id] == 1; };
+  const auto isLeaf = [&](NodeId id) {
+    return id != anchor && degree[id] == 1 && options.constant.count(id) == 0;
+  };
   std::vector<size_t> kept_edges, leaf_edges;
   for (size_t k = 0; k < graph.edges.size(); ++k) {
     const PoseGraphEdge& e = graph.edges[k];

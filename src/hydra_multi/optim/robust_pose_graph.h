@@ -5,6 +5,7 @@
 
 #include <functional>
 #include <map>
+#include <set>
 #include <string>
 
 #include "hydra_multi/optim/gnc.h"
@@ -49,6 +50,8 @@ struct RobustPgoOptions {
   /// (RobustPgoResult::known_contradicted counts them). With every robust factor known or held out,
   /// GNC has nothing to decide and the result is the polish and re-admission alone.
   std::vector<bool> known_inlier;
+  /// Poses held where `initial` puts them, as the anchor: a local solve of the others.
+  std::set<NodeId> constant;
   /// Called after every solve with a one-line report (for progress output on long runs).
   std::function<void(const std::string&)> progress;
 };
@@ -61,7 +64,7 @@ struct RobustPgoResult {
   int solver_iterations = 0;        ///< Levenberg-Marquardt iterations over all solves
   int solves = 0;
   size_t known_contradicted = 0;  ///< known inliers GNC had to decide again (known_inlier)
-  double final_cost = 0.0;  ///< Ceres cost of the last solve (weighted)
+  double final_cost = 0.0;        ///< Ceres cost of the last solve (weighted)
   double time_s = 0.0;
   bool usable = true;
   std::string message;  ///< the last solve's report

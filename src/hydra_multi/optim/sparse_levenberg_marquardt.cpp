@@ -39,7 +39,7 @@ constexpr size_t kBothOrderingsFrom = 5000;  // variables
 struct SparseLevenbergMarquardt::Impl {
   const ceres::Manifold* rotation = nullptr;
   std::vector<LmTerm> terms;
-  std::vector<long> variable;  // pose -> variable block, kNone for the fixed pose
+  std::vector<long> variable;  // pose -> variable block, kNone for fixed poses
   size_t variables = 0;
   // H is stored permuted, A = P H P^T with P the fill-reducing ordering (postordered), lower
   // triangle, so that CHOLMOD factorizes A in its natural order without permuting or transposing
@@ -157,7 +157,8 @@ struct SparseLevenbergMarquardt::Impl {
 };
 
 SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector<LmTerm> terms,
-                                                   size_t fixed, const ceres::Manifold& rotation)
+                                                   const std::vector<bool>& fixed,
+                                                   const ceres::Manifold& rotation)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.rotation = &rotation;
@@ -172,7 +173,7 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
   m.common.error_handler = nullptr;
   m.variable.assign(num_poses, kNone);
   for (size_t p = 0; p < num_poses; ++p) {
-    if (p != fixed) m.variable[p] = static_cast<long>(m.variables++);
+    if (p >= fixed.size() || !fixed[p]) m.variable[p] = static_cast<long>(m.variables++);
   }
   // The blocks of H: per variable column, its rows (itself, and the variables a term joins it to
   // from above).

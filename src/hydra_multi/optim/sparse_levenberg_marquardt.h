@@ -55,10 +55,11 @@ struct LmSummary {
 
 class SparseLevenbergMarquardt {
  public:
-  /// `fixed`: the pose held constant (the gauge); num_poses for none. `rotation`: the manifold of
-  /// every quaternion block, outliving this.
-  SparseLevenbergMarquardt(size_t num_poses, std::vector<LmTerm> terms, size_t fixed,
-                           const ceres::Manifold& rotation);
+  /// `fixed`: per pose, held constant (the gauge, and the poses a local solve leaves where they
+  /// are); shorter than num_poses: the rest are free. `rotation`: the manifold of every
+  /// quaternion block, outliving this.
+  SparseLevenbergMarquardt(size_t num_poses, std::vector<LmTerm> terms,
+                           const std::vector<bool>& fixed, const ceres::Manifold& rotation);
   ~SparseLevenbergMarquardt();
   SparseLevenbergMarquardt(const SparseLevenbergMarquardt&) = delete;
   SparseLevenbergMarquardt& operator=(const SparseLevenbergMarquardt&) = delete;
