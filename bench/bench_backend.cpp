@@ -6,7 +6,12 @@
 // updates, as an online station whose backend keeps up would run them. Build in Release (`make
 // bench-backend`).
 //
+// With --compare-full, a second backend that solves the whole deformation graph every round
+// (DeformationGraphOptions::local_whole_graph off) runs the same rounds, and each round prints
+// how far the two backend graphs' nodes are apart (median, max).
+//
 //   bench_backend DATASET_DIR [--rounds N] [--every K] [--config FILE] [--verbose]
+//                 [--compare-full]
 
 #include <algorithm>
 #include <chrono>
@@ -24,12 +29,13 @@ int main(int argc, char** argv) {
   if (argc < 2 || argv[1][0] == '-') {
     std::fprintf(stderr,
                  "usage: bench_backend DATASET_DIR [--rounds N] [--every K] [--config FILE] "
-                 "[--verbose]\n");
+                 "[--verbose] [--compare-full]\n");
     return 2;
   }
   int rounds = 1;
   size_t every = 0;
   StationOptions options;
+  bool compare_full = false;
   for (int i = 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--rounds") == 0 && i + 1 < argc) {
       rounds = std::max(1, std::atoi(argv[++i]));
@@ -40,6 +46,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "error: %s\n", s.message().c_str());
         return 1;
       }
+    } else if (std::strcmp(argv[i], "--compare-full") == 0) {
+      compare_full = true;
     } else if (std::strcmp(argv[i], "--verbose") == 0) {
       options.backend.deformation.solver.progress = [](const std::string& line) {
         std::fprintf(stderr, "  %s\n", line.c_str());
@@ -59,6 +67,10 @@ int main(int argc, char** argv) {
   SceneGraphProcessor processor;
   LoopClosureDetector detector;
   Backend backend(options.backend);
+  BackendOptions full_options = options.backend;
+  full_options.deformation.local_whole_graph = false;
+  full_options.deformation.solver.progress = nullptr;
+  Backend full(full_options);
   std::vector<BackendRobot> robots;
   const auto runRound = [&](const std::string& name) {
     robots.clear();
@@ -69,19 +81,33 @@ int main(int argc, char** argv) {
     }
     const std::vector<PoseGraphEdge> inter = interRobotEdges(detector.loopClosures());
     const BackendRoundReport r = backend.round(processor.graph(), robots, inter, root);
+    std::string apart;
+    if (compare_full) {
+      full.round(processor.graph(), robots, inter, root);
+      std::vector<double> d;
+      for (const auto& [id, node] : backend.graph().nodes()) {
+        if (const Node* other = full.graph().findNode(id); other != nullptr)
+          d.push_back((node.position - other->position).norm());
+      }
+      std::sort(d.begin(), d.end());
+      char text[96];
+      std::snprintf(text, sizeof(text), "  apart from the full solve: median %.4f m, max %.4f m",
+                    d.empty() ? 0.0 : d[d.size() / 2], d.empty() ? 0.0 : d.back());
+      apart = text;
+    }
     std::printf(
         "%7s  %3zu/%-3zu  %5zu  %7zu  %5zu  %4zu/%-4zu  %4zu/%-4zu  %5zu/%-3zu  %6d  %7.2f  "
-        "%7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %7.2f\n",
+        "%7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %6zu%s\n",
         name.c_str(), r.robots_aligned, r.robots, r.variables, r.factors, r.nodes,
         r.inter_robot_inliers, r.inter_robot_loop_closures, r.merges_accepted, r.merges_proposed,
         r.verdicts_known, r.verdicts_redecided, r.solves, r.alignment_s, r.build_s, r.gnc_s,
-        r.whole_graph_s, r.graph_s, r.rooms_s, r.time_s);
+        r.whole_graph_s, r.graph_s, r.rooms_s, r.time_s, r.whole_graph_free, apart.c_str());
     std::fflush(stdout);
     return r.time_s;
   };
   const char* header =
       "  round  aligned  poses  factors  nodes  kept/lc    merges     known/redo  solves  "
-      "align_s  build_s    gnc_s  whole_s  graph_s  rooms_s  total_s\n";
+      "align_s  build_s    gnc_s  whole_s  graph_s  rooms_s  total_s   moved\n";
   if (every > 0) std::printf("%s", header);
   const auto t0 = std::chrono::steady_clock::now();
   double online_s = 0.0;

@@ -130,6 +130,66 @@ TEST(DeformationGraph, LoopClosuresCorrectDriftAndOutliersAreRejected) {
   EXPECT_EQ(accepted_bad, 0u);
 }
 
+// A round after another, robot b 10 keyframes further: the whole-graph solve started from the
+// last round's solution moves only the nodes near what changed, and ends where the solve of the
+// whole graph ends, within the solver's own tolerance.
+TEST(DeformationGraph, AWarmStartedRoundSolvesTheWholeGraphOnlyWhereItChanged) {
+  SceneGraph later;
+  Robot a = drive(RobotId(0), 0.0, 0.0, later);
+  Robot b = drive(RobotId(1), M_PI, 0.0005, later);
+  const auto kf = [](const Robot& r, size_t k) { return NodeId::station(r.id.prefix(), r.id, k); };
+  std::vector<PoseGraphEdge> inter;
+  for (size_t k = 0; k < 60; k += 3) {
+    PoseGraphEdge e;
+    e.from = kf(a, (k + 30) % 60);  // b started half a circle on
+    e.to = kf(b, k);
+    e.T_from_to = a.truth[(k + 30) % 60].inverse() * b.truth[k];
+    e.information = Matrix6d::Identity() * 100.0;
+    inter.push_back(e);
+  }
+  const Eigen::Isometry3d T_global_b = a.truth.front().inverse() * b.truth.front();
+  // Earlier: b's first 50 keyframes, control points and loop closures.
+  constexpr size_t kEarlier = 50;
+  SceneGraph earlier = later;
+  for (size_t k = kEarlier; k < 60; ++k) earlier.removeNode(kf(b, k));
+  Robot b_then = b;
+  b_then.pose_graph.resize(kEarlier - 1);
+  b_then.control_points.resize(kEarlier);
+  b_then.control_point_edges.resize(kEarlier - 1);
+  std::vector<PoseGraphEdge> inter_then;
+  for (const PoseGraphEdge& e : inter) {
+    if (e.to.index() < kEarlier) inter_then.push_back(e);
+  }
+  const auto inputs = [&](const Robot& robot_b) {
+    return std::vector<RobotDeformationInput>{
+        {a.id, Eigen::Isometry3d::Identity(), &a.pose_graph, &a.control_points,
+         &a.control_point_edges},
+        {b.id, T_global_b, &robot_b.pose_graph, &robot_b.control_points,
+         &robot_b.control_point_edges}};
+  };
+  DeformationGraphOptions options;
+  const DeformationResult then = optimizeDeformationGraph(
+      buildDeformationGraph(earlier, inputs(b_then), inter_then, {}, options), options);
+  DeformationWarmStart warm;
+  warm.poses = then.solve.poses;
+  warm.verdicts = then.robust_inlier;
+  warm.last_whole = then.poses;
+  warm.last_skeleton = then.solve.poses;
+
+  const DeformationGraph graph = buildDeformationGraph(later, inputs(b), inter, {}, options);
+  const DeformationResult local = optimizeDeformationGraph(graph, options, {}, &warm);
+  DeformationGraphOptions everywhere = options;
+  everywhere.local_whole_graph = false;
+  const DeformationResult whole = optimizeDeformationGraph(graph, everywhere, {}, &warm);
+  EXPECT_EQ(whole.whole_graph_free, graph.initial.size());
+  EXPECT_GT(local.whole_graph_free, 20u);  // b's new keyframes and control points at least
+  EXPECT_LT(local.whole_graph_free, graph.initial.size() / 2);
+  double apart = 0.0;
+  for (const auto& [id, pose] : whole.poses)
+    apart = std::max(apart, (local.poses.at(id).translation() - pose.translation()).norm());
+  EXPECT_LT(apart, 0.01);
+}
+
 // A robot passes a corridor twice, and its odometry turned 3 degrees too little at the turn between
 // the passes: in its own map the way back runs onto the way out, up to 1 m at the far end, and the
 // control points it made on the way back sit beside, and are tied by its mesh edges to, those of

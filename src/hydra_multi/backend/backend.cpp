@@ -279,7 +279,11 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     warm = lastRound(graph, team);
     report.verdicts_known = warm.verdicts.size();
   } else if (incremental()) {
-    // The loop closures as the solve without merges decided them; the merges as the last round.
+    // The loop closures as the solve without merges decided them, those it took back among them
+    // (it tested them held out); the merges as the last round.
+    for (const auto& [edge, inlier] : warm.verdicts) {
+      if (inlier) held_out.erase(edge);
+    }
     // Poses from the last round's solve with merges, moved as the loop closures' solve moved
     // them since: P_now P_then^-1 S_then.
     std::map<NodeId, Eigen::Isometry3d> last_proposal;
@@ -302,8 +306,9 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   const DeformationResult result = optimizeDeformationGraph(graph, options_.deformation, held_out,
                                                             warm.poses.empty() ? nullptr : &warm);
   report.verdicts_redecided += result.solve.known_contradicted;
-  report.solves += result.solve.solves + (result.whole_graph_s > 0.0 ? 1 : 0);
+  report.solves += result.solve.solves + (result.whole_graph_free > 0 ? 1 : 0);
   report.whole_graph_s = result.whole_graph_s;
+  report.whole_graph_free = result.whole_graph_free;
   report.gnc_s = lap() - result.whole_graph_s;
   recordVerdicts(team, inter_robot, result, report);
   rememberForNextRound(frontend, graph, result, proposal_poses, team.T_global_robot);

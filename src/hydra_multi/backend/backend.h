@@ -91,7 +91,10 @@ struct BackendRoundReport {
   /// Incremental rounds: robust factors (loop closures, merges) taken as decided from the last
   /// round, and those of them the solve contradicted and GNC decided again.
   size_t verdicts_known = 0, verdicts_redecided = 0;
-  int solves = 0;             ///< pose-graph solves of the round (GNC's included)
+  int solves = 0;  ///< pose-graph solves of the round (GNC's included)
+  /// Poses the whole-graph solve moved (DeformationGraphOptions::local_whole_graph: those near
+  /// what changed since the last round; else all).
+  size_t whole_graph_free = 0;
   bool from_scratch = false;  ///< the round took nothing from the last one
 };
 

@@ -6,6 +6,7 @@
 #include <limits>
 #include <optional>
 #include <set>
+#include <unordered_map>
 
 #include "hydra_multi/core/nearest_neighbors.h"
 
@@ -32,6 +33,47 @@ PoseGraphEdge edge(NodeId from, NodeId to, const Eigen::Isometry3d& T_from_to, d
 // A gauge prior: the weakest of links from the anchor to a robot's first keyframe, so that a
 // robot whose every inter-robot factor GNC rejects still has a defined place (as aligned).
 constexpr double kGaugeVariance = 1e6;
+
+// The nodes a warm-started whole-graph solve moves (DeformationGraphOptions::local_whole_graph):
+// those of the factors whose two poses are placed relative to each other otherwise than in the
+// earlier solution (or that it lacks), and those within local_hops edges of them; none without
+// an earlier solution.
+std::optional<std::set<NodeId>> changedNodes(const PoseGraph& whole,
+                                             const std::map<NodeId, Eigen::Isometry3d>& start,
+                                             const DeformationWarmStart& warm,
+                                             const DeformationGraphOptions& options) {
+  if (warm.last_whole.empty()) return std::nullopt;
+  std::set<NodeId> changed;
+  std::unordered_map<NodeId, std::vector<NodeId>> neighbours;
+  for (const PoseGraphEdge& e : whole.edges) {
+    if (!start.count(e.from) || !start.count(e.to)) continue;
+    neighbours[e.from].push_back(e.to);
+    neighbours[e.to].push_back(e.from);
+    const auto from_then = warm.last_whole.find(e.from), to_then = warm.last_whole.find(e.to);
+    bool moved = from_then == warm.last_whole.end() || to_then == warm.last_whole.end();
+    if (!moved) {
+      const Eigen::Isometry3d delta = (from_then->second.inverse() * to_then->second).inverse() *
+                                      (start.at(e.from).inverse() * start.at(e.to));
+      moved = delta.translation().norm() > options.local_move_m ||
+              Eigen::AngleAxisd(delta.linear()).angle() > options.local_move_rad;
+    }
+    if (moved) {
+      changed.insert(e.from);
+      changed.insert(e.to);
+    }
+  }
+  std::vector<NodeId> frontier(changed.begin(), changed.end());
+  for (int hop = 0; hop < options.local_hops && !frontier.empty(); ++hop) {
+    std::vector<NodeId> next;
+    for (const NodeId id : frontier) {
+      for (const NodeId n : neighbours[id]) {
+        if (changed.insert(n).second) next.push_back(n);
+      }
+    }
+    frontier = std::move(next);
+  }
+  return changed;
+}
 
 }  // namespace
 
@@ -282,11 +324,36 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
   }
   RobustPgoOptions plain = options.solver;
   plain.robust = false;
-  plain.progress = nullptr;
   plain.solver.max_iterations = options.final_iterations;
   plain.solver.linear_solver = PoseGraphOptimizerOptions::LinearSolver::kSparseCholesky;
-  const RobustPgoResult solved = optimizePoseGraph(whole, initial, graph.anchor, plain);
-  if (solved.usable) result.poses = solved.poses;
+  const std::optional<std::set<NodeId>> changed = options.local_whole_graph && warm != nullptr
+                                                      ? changedNodes(whole, initial, *warm, options)
+                                                      : std::nullopt;
+  if (!changed || changed->size() > options.local_max_share * initial.size()) {
+    const RobustPgoResult solved = optimizePoseGraph(whole, initial, graph.anchor, plain);
+    if (solved.usable) result.poses = solved.poses;
+    result.whole_graph_free = initial.size();
+  } else {
+    // The factors of the changed nodes, the others they reach held where they are.
+    result.poses = initial;
+    PoseGraph local;
+    std::map<NodeId, Eigen::Isometry3d> local_initial;
+    for (const PoseGraphEdge& e : whole.edges) {
+      if (!changed->count(e.from) && !changed->count(e.to)) continue;
+      local.edges.push_back(e);
+      for (const NodeId id : {e.from, e.to}) {
+        local_initial[id] = initial.at(id);
+        if (!changed->count(id)) plain.constant.insert(id);
+      }
+    }
+    if (!local.edges.empty()) {
+      const RobustPgoResult solved = optimizePoseGraph(local, local_initial, graph.anchor, plain);
+      if (solved.usable) {
+        for (const NodeId id : *changed) result.poses[id] = solved.poses.at(id);
+      }
+    }
+    result.whole_graph_free = changed->size();
+  }
   result.whole_graph_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - whole_start).count();
   return result;

@@ -15,9 +15,12 @@
 // (odometry 1e-2, its rotation 1e-4; loop closures 5e-2; mesh 1e-2), not the information the
 // robots send (use_sent_information). GNC runs on the graph's skeleton (keyframes with their
 // odometry, every robust factor, places and objects linked to their nearest keyframe), then the
-// whole graph is solved once with the factors GNC kept (two_stage). docs/DECISIONS.md: "Ties
-// only between what a robot made within 10 s", "Kimera-PGMO's variances, not the robots'
-// information", "GNC on the skeleton, then the whole graph once".
+// whole graph is solved once with the factors GNC kept (two_stage); started from an earlier
+// round's solution, that solve moves only the nodes of factors whose two poses the skeleton placed
+// otherwise relative to each other, and their neighbours (local_whole_graph). docs/DECISIONS.md:
+// "Ties only between what a robot made within 10 s", "Kimera-PGMO's variances, not the robots'
+// information", "GNC on the skeleton, then the whole graph once", "The whole-graph solve moves
+// only what changed".
 //
 // After the solve, mesh vertices move with their k nearest control points (deformMesh):
 //   v' = sum_j w_j (R_j R0_j^T (v - g_j) + t_j) / sum_j w_j,   w_j = 1 - d_j / d_max,
@@ -70,6 +73,16 @@ struct DeformationGraphOptions {
   /// Levenberg-Marquardt iterations of that whole-graph solve; 0: none, control points move
   /// rigidly with the keyframe that observed them.
   int final_iterations = 10;
+  /// A whole-graph solve that starts from an earlier one (DeformationWarmStart::last_whole) moves
+  /// only what changed: the nodes new since then or that the warm start moved (the skeleton moved
+  /// them) by more than local_move_m or local_move_rad, and those within local_hops edges of
+  /// them; the others stay where the earlier solution put them. When that is more than
+  /// local_max_share of the nodes, the whole graph is solved. false: always the whole graph.
+  bool local_whole_graph = true;
+  double local_move_m = 1e-3;
+  double local_move_rad = 1e-3;
+  int local_hops = 1;
+  double local_max_share = 0.5;
 };
 
 /// The control point node id of robot r's control point `index`.
@@ -95,8 +108,9 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
 struct DeformationResult {
   std::map<NodeId, Eigen::Isometry3d> poses;                ///< optimized, global frame
   std::map<std::pair<NodeId, NodeId>, bool> robust_inlier;  ///< per robust factor (from, to)
-  RobustPgoResult solve;       ///< GNC's solve (over the skeleton when two_stage)
-  double whole_graph_s = 0.0;  ///< the whole-graph solve after it (two_stage)
+  RobustPgoResult solve;        ///< GNC's solve (over the skeleton when two_stage)
+  double whole_graph_s = 0.0;   ///< the whole-graph solve after it (two_stage)
+  size_t whole_graph_free = 0;  ///< poses that solve moved (local_whole_graph: not all)
 };
 
 /// What a solve may take from earlier ones: poses to start from instead of the graph's initial
