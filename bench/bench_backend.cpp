@@ -6,12 +6,13 @@
 // updates, as an online station whose backend keeps up would run them. Build in Release (`make
 // bench-backend`).
 //
-// With --compare-full, a second backend that solves the whole deformation graph every round
-// (DeformationGraphOptions::local_whole_graph off) runs the same rounds, and each round prints
-// how far the two backend graphs' nodes are apart (median, max).
+// With --from-scratch, the rounds on the final state take nothing from earlier rounds (as the
+// station's last round). With --compare-full, a second backend that solves the whole deformation
+// graph every round (DeformationGraphOptions::local_whole_graph off) runs the same rounds, and each
+// round prints how far the two backend graphs' nodes are apart (median, max).
 //
 //   bench_backend DATASET_DIR [--rounds N] [--every K] [--config FILE] [--verbose]
-//                 [--compare-full]
+//                 [--from-scratch] [--compare-full]
 
 #include <algorithm>
 #include <chrono>
@@ -29,13 +30,13 @@ int main(int argc, char** argv) {
   if (argc < 2 || argv[1][0] == '-') {
     std::fprintf(stderr,
                  "usage: bench_backend DATASET_DIR [--rounds N] [--every K] [--config FILE] "
-                 "[--verbose] [--compare-full]\n");
+                 "[--verbose] [--from-scratch] [--compare-full]\n");
     return 2;
   }
   int rounds = 1;
   size_t every = 0;
   StationOptions options;
-  bool compare_full = false;
+  bool compare_full = false, from_scratch = false;
   for (int i = 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--rounds") == 0 && i + 1 < argc) {
       rounds = std::max(1, std::atoi(argv[++i]));
@@ -46,6 +47,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "error: %s\n", s.message().c_str());
         return 1;
       }
+    } else if (std::strcmp(argv[i], "--from-scratch") == 0) {
+      from_scratch = true;
     } else if (std::strcmp(argv[i], "--compare-full") == 0) {
       compare_full = true;
     } else if (std::strcmp(argv[i], "--verbose") == 0) {
@@ -72,7 +75,7 @@ int main(int argc, char** argv) {
   full_options.deformation.solver.progress = nullptr;
   Backend full(full_options);
   std::vector<BackendRobot> robots;
-  const auto runRound = [&](const std::string& name) {
+  const auto runRound = [&](const std::string& name, bool scratch) {
     robots.clear();
     for (const RobotId r : processor.robots()) {
       const RobotFrontendState* state = processor.robot(r);
@@ -80,10 +83,10 @@ int main(int argc, char** argv) {
                         &state->mesh});
     }
     const std::vector<PoseGraphEdge> inter = interRobotEdges(detector.loopClosures());
-    const BackendRoundReport r = backend.round(processor.graph(), robots, inter, root);
+    const BackendRoundReport r = backend.round(processor.graph(), robots, inter, root, {}, scratch);
     std::string apart;
     if (compare_full) {
-      full.round(processor.graph(), robots, inter, root);
+      full.round(processor.graph(), robots, inter, root, {}, scratch);
       std::vector<double> d;
       for (const auto& [id, node] : backend.graph().nodes()) {
         if (const Node* other = full.graph().findNode(id); other != nullptr)
@@ -117,7 +120,7 @@ int main(int argc, char** argv) {
     if (report.outcome != UpdateOutcome::kApplied) continue;
     detector.update(processor, report.new_keyframes);
     if (every > 0 && ++applied % every == 0) {
-      online_s += runRound("u" + std::to_string(applied));
+      online_s += runRound("u" + std::to_string(applied), false);
       ++online_rounds;
     }
   }
@@ -131,6 +134,6 @@ int main(int argc, char** argv) {
     std::printf("online: %zu rounds, %.1f s, %.2f s per round\n", online_rounds, online_s,
                 online_s / double(online_rounds));
   std::printf("%s", header);
-  for (int i = 0; i < rounds; ++i) runRound(std::to_string(i));
+  for (int i = 0; i < rounds; ++i) runRound(std::to_string(i), from_scratch);
   return 0;
 }

@@ -64,24 +64,32 @@ Robot drive(RobotId id, double start_angle, double yaw_drift, SceneGraph& fronte
   return r;
 }
 
+NodeId keyframe(const Robot& r, size_t k) { return NodeId::station(r.id.prefix(), r.id, k); }
+
+// True loop closures wherever robots a and b (b started half a circle on) pass the same place.
+std::vector<PoseGraphEdge> trueClosures(const Robot& a, const Robot& b) {
+  std::vector<PoseGraphEdge> closures;
+  for (size_t k = 0; k < 60; k += 3) {
+    PoseGraphEdge e;
+    e.from = keyframe(a, k);
+    e.to = keyframe(b, (k + 30) % 60);
+    e.T_from_to = a.truth[k].inverse() * b.truth[(k + 30) % 60];
+    e.information = Matrix6d::Identity() * 100.0;
+    closures.push_back(e);
+  }
+  return closures;
+}
+
 TEST(DeformationGraph, LoopClosuresCorrectDriftAndOutliersAreRejected) {
   SceneGraph frontend;
   // Robot a's odometry is exact, robot b's turns 0.3 degrees too much at every keyframe: the
   // loop closures with a are what can straighten b.
   Robot a = drive(RobotId(0), 0.0, 0.0, frontend);
   Robot b = drive(RobotId(1), M_PI, 0.005, frontend);
-  const auto kf = [](const Robot& r, size_t k) { return NodeId::station(r.id.prefix(), r.id, k); };
+  const auto kf = keyframe;
   // True closures wherever both robots pass the same place, and wrong ones.
-  std::vector<PoseGraphEdge> inter;
+  std::vector<PoseGraphEdge> inter = trueClosures(a, b);
   std::mt19937_64 rng(3);
-  for (size_t k = 0; k < 60; k += 3) {
-    PoseGraphEdge e;
-    e.from = kf(a, k);
-    e.to = kf(b, (k + 30) % 60);  // b started half a circle on
-    e.T_from_to = a.truth[k].inverse() * b.truth[(k + 30) % 60];
-    e.information = Matrix6d::Identity() * 100.0;
-    inter.push_back(e);
-  }
   const size_t good = inter.size();
   std::uniform_int_distribution<size_t> pick(0, 59);
   for (int i = 0; i < 8; ++i) {
@@ -137,21 +145,12 @@ TEST(DeformationGraph, AWarmStartedRoundSolvesTheWholeGraphOnlyWhereItChanged) {
   SceneGraph later;
   Robot a = drive(RobotId(0), 0.0, 0.0, later);
   Robot b = drive(RobotId(1), M_PI, 0.0005, later);
-  const auto kf = [](const Robot& r, size_t k) { return NodeId::station(r.id.prefix(), r.id, k); };
-  std::vector<PoseGraphEdge> inter;
-  for (size_t k = 0; k < 60; k += 3) {
-    PoseGraphEdge e;
-    e.from = kf(a, (k + 30) % 60);  // b started half a circle on
-    e.to = kf(b, k);
-    e.T_from_to = a.truth[(k + 30) % 60].inverse() * b.truth[k];
-    e.information = Matrix6d::Identity() * 100.0;
-    inter.push_back(e);
-  }
+  const std::vector<PoseGraphEdge> inter = trueClosures(a, b);
   const Eigen::Isometry3d T_global_b = a.truth.front().inverse() * b.truth.front();
   // Earlier: b's first 50 keyframes, control points and loop closures.
   constexpr size_t kEarlier = 50;
   SceneGraph earlier = later;
-  for (size_t k = kEarlier; k < 60; ++k) earlier.removeNode(kf(b, k));
+  for (size_t k = kEarlier; k < 60; ++k) earlier.removeNode(keyframe(b, k));
   Robot b_then = b;
   b_then.pose_graph.resize(kEarlier - 1);
   b_then.control_points.resize(kEarlier);

@@ -176,6 +176,52 @@ TEST(Reconciliation, ObjectMergesCheckedWhereTheSolveMovedThem) {
   EXPECT_LT(Eigen::AngleAxisd(kept[0].T_target_source->linear()).angle(), 0.01);
 }
 
+// ICP's verdict on a pair is kept for the next check: both copies moved together (a common rigid
+// motion) take it without ICP, the same measurement; one copy turned against the other is checked
+// again.
+TEST(Reconciliation, IcpVerdictsAreReusedWhileThePairKeepsItsRelativePlacement) {
+  const Eigen::Vector3d size(1.2, 0.6, 0.9);
+  Eigen::Isometry3d at = Eigen::Isometry3d::Identity();
+  at.translation() = Eigen::Vector3d(6.0, 3.0, 0.5);
+  SceneGraph g;
+  Mesh mesh_a, mesh_b;
+  meshedObject(g, mesh_a, kA, 0, at, size);
+  Eigen::Isometry3d turned = at;
+  turned.linear() = Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitZ()).matrix();
+  meshedObject(g, mesh_b, kB, 0, turned, size);
+  const std::map<RobotId, Eigen::Isometry3d> T = {{kA, Eigen::Isometry3d::Identity()},
+                                                  {kB, Eigen::Isometry3d::Identity()}};
+  const std::map<RobotId, const Mesh*> meshes = {{kA, &mesh_a}, {kB, &mesh_b}};
+  const NodeId a = NodeId::station('O', kA, 0), b = NodeId::station('O', kB, 0);
+  const std::vector<MergeCandidate> candidate = {{a, b, Layer::kObjects, {}}};
+  IcpCache cache;
+  const auto first = refineObjectMerges(candidate, g, T, meshes, {}, nullptr, &cache);
+  ASSERT_EQ(first.size(), 1u);
+  ASSERT_TRUE(first[0].T_target_source.has_value());
+  EXPECT_EQ(cache.computed, 1u);
+  EXPECT_EQ(cache.reused, 0u);
+
+  Eigen::Isometry3d common = Eigen::Isometry3d::Identity();
+  common.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).matrix();
+  common.translation() = Eigen::Vector3d(1.0, -2.0, 0.1);
+  const std::map<NodeId, Eigen::Isometry3d> together = {{a, common}, {b, common}};
+  const auto again = refineObjectMerges(candidate, g, T, meshes, {}, &together, &cache);
+  ASSERT_EQ(again.size(), 1u);
+  EXPECT_EQ(cache.reused, 1u);
+  EXPECT_EQ(cache.computed, 0u);
+  EXPECT_EQ(again[0].T_target_source->matrix(), first[0].T_target_source->matrix());
+
+  Eigen::Isometry3d apart = Eigen::Isometry3d::Identity();
+  apart.linear() = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()).matrix();
+  apart = at * apart * at.inverse();  // b's copy turned about the object by 23 degrees
+  const std::map<NodeId, Eigen::Isometry3d> turned_apart = {{b, apart}};
+  const auto checked = refineObjectMerges(candidate, g, T, meshes, {}, &turned_apart, &cache);
+  EXPECT_EQ(cache.reused, 0u);
+  EXPECT_EQ(cache.computed, 1u);
+  ASSERT_EQ(checked.size(), 1u);
+  EXPECT_FALSE(checked[0].T_target_source.has_value());  // turned past 20 degrees: plain factor
+}
+
 // An object of the backend graph: its box of `size` at `centre`, its lattice of vertices in the
 // graph's mesh (global frame).
 void labelledObject(SceneGraph& g, RobotId robot, uint64_t index, const Eigen::Vector3d& centre,

@@ -198,12 +198,13 @@ Backend::Proposals Backend::proposeOnLoopClosureSolve(
   report.verdicts_redecided += solved.solve.known_contradicted;
   report.solves += solved.solve.solves;
   proposals.solved.poses = solved.poses;
-  if (incremental()) proposals.solved.verdicts = solved.robust_inlier;
+  proposals.solved.verdicts = solved.robust_inlier;
   const SolvedNodes nodes =
       solvedNodes(frontend, team.inputs, graph, solved, options_.deformation.link_max_dt_s);
   proposals.candidates = refineObjectMerges(
       proposeMerges(frontend, team.T_global_robot, options_.reconciliation, &nodes.positions),
-      frontend, team.T_global_robot, team.meshes, options_.reconciliation, &nodes.motion);
+      frontend, team.T_global_robot, team.meshes, options_.reconciliation, &nodes.motion,
+      incremental() ? &icp_cache_ : nullptr);
   return proposals;
 }
 
@@ -278,14 +279,16 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   if (warm.poses.empty()) {
     warm = lastRound(graph, team);
     report.verdicts_known = warm.verdicts.size();
-  } else if (incremental()) {
+  } else {
     // The loop closures as the solve without merges decided them, those it took back among them
-    // (it tested them held out); the merges as the last round.
+    // (it tested them held out).
     for (const auto& [edge, inlier] : warm.verdicts) {
       if (inlier) held_out.erase(edge);
     }
-    // Poses from the last round's solve with merges, moved as the loop closures' solve moved
-    // them since: P_now P_then^-1 S_then.
+  }
+  if (!proposal_poses.empty() && incremental()) {
+    // The merges as the last round decided them. Poses from the last round's solve with merges,
+    // moved as the loop closures' solve moved them since: P_now P_then^-1 S_then.
     std::map<NodeId, Eigen::Isometry3d> last_proposal;
     DeformationWarmStart last = lastRound(graph, team, true, &last_proposal);
     for (auto& [id, pose] : warm.poses) {

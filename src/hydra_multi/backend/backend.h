@@ -8,13 +8,15 @@
 //      come back only where they fit the result; deformation_graph.h); reconciliation proposals
 //      on that solution as merge factors (reconciliation.h);
 //   3. the graph with the merge factors, held out in the same way, solved again (GNC on the
-//      skeleton, then the whole graph once);
+//      skeleton, then the whole graph once), the loop closures taken as step 2 decided them
+//      (known inliers, or held out to be taken back where they fit);
 //   4. optimizedMap, the backend graph (optimized_map.h), and mergeKept, the merges GNC kept or
 //      none (node_merging.h);
 //   5. rooms segmented over the optimized places (room_segmentation.h).
 // Robots not aligned yet are left out of the backend graph until they are. Incremental rounds
 // (BackendOptions::incremental) start GNC where the last round ended; a robot whose alignment
-// changed starts afresh. Merges are proposed anew every round, and one kept before is decided
+// changed starts afresh. Merges are proposed anew every round (ICP's verdict on an object pair
+// reused while the pair keeps its relative placement, IcpCache), and one kept before is decided
 // again when the result contradicts it, so a merge later rounds no longer support is undone.
 // docs/DECISIONS.md: "Factors held out of GNC", "Rounds start where the last one ended".
 
@@ -68,8 +70,7 @@ struct BackendOptions {
   /// since then moved as its robot's latest keyframe was), and the loop closures and merges it
   /// decided taken as decided (known inliers, or held out to be taken back where they fit), so
   /// GNC decides only the new ones and those the result contradicts; a robot whose alignment
-  /// changed starts afresh. The solve with the merge factors takes the loop closures as the solve
-  /// without them decided. false: every round decides everything from the aligned frontend
+  /// changed starts afresh. false: every round decides everything from the aligned frontend
   /// state, as the paper's batch backend.
   bool incremental = true;
 };
@@ -195,6 +196,7 @@ class Backend {
   std::map<RobotId, Eigen::Isometry3d> latest_corrections_;
   std::map<RobotId, Eigen::Isometry3d> last_alignment_;
   std::map<std::pair<NodeId, NodeId>, bool> last_verdicts_;
+  mutable IcpCache icp_cache_;  // ICP's verdicts on object pairs, for incremental rounds
 };
 
 }  // namespace hydra_multi

@@ -129,12 +129,12 @@ std::vector<MergeCandidate> refineObjectMerges(
     std::vector<MergeCandidate> candidates, const SceneGraph& frontend,
     const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
     const std::map<RobotId, const Mesh*>& meshes, const ReconciliationOptions& options,
-    const std::map<NodeId, Eigen::Isometry3d>* moved) {
+    const std::map<NodeId, Eigen::Isometry3d>* moved, IcpCache* cache) {
   if (!options.object_icp) return candidates;
   // An object's vertices and its node pose (at its centre, turned as its robot's frame), global
-  // frame, moved as the solve moved it.
-  const auto object = [&](NodeId id, std::vector<Eigen::Vector3d>& points,
-                          Eigen::Isometry3d& pose) {
+  // frame, moved as the solve moved it; `key` sums its vertices in its robot's frame.
+  const auto object = [&](NodeId id, std::vector<Eigen::Vector3d>& points, Eigen::Isometry3d& pose,
+                          double& key) {
     const Node* node = frontend.findNode(id);
     const auto robot = id.sourceRobot();
     if (!node || !robot || !T_global_robot.count(*robot)) return false;
@@ -145,46 +145,79 @@ std::vector<MergeCandidate> refineObjectMerges(
     const Eigen::Isometry3d T = M * T_global_robot.at(*robot);
     pose = T;
     pose.translation() = T * node->position;
+    key = node->position.sum();
     const auto mesh = meshes.find(*robot);
     const ObjectAttributes* attributes = node->find<ObjectAttributes>();
     if (mesh == meshes.end() || mesh->second == nullptr || attributes == nullptr) return true;
     for (const uint64_t v : attributes->mesh_vertices) {
-      if (v < mesh->second->vertices.size())
-        points.push_back(T * mesh->second->vertices[v].position.cast<double>());
+      if (v >= mesh->second->vertices.size()) continue;
+      const Eigen::Vector3d p = mesh->second->vertices[v].position.cast<double>();
+      points.push_back(T * p);
+      key += p.sum() * 1e-3 + 1.0;
     }
     return true;
   };
+  std::map<std::pair<NodeId, NodeId>, IcpCache::Entry> checked;
+  size_t reused = 0;
   std::vector<MergeCandidate> kept;
   for (MergeCandidate& c : candidates) {
     std::vector<Eigen::Vector3d> target, source;
     Eigen::Isometry3d X_target, X_source;
-    if (c.layer != Layer::kObjects || !object(c.target, target, X_target) ||
-        !object(c.source, source, X_source) || target.size() < options.icp_min_vertices ||
-        source.size() < options.icp_min_vertices) {
+    double target_key = 0.0, source_key = 0.0;
+    if (c.layer != Layer::kObjects || !object(c.target, target, X_target, target_key) ||
+        !object(c.source, source, X_source, source_key) ||
+        target.size() < options.icp_min_vertices || source.size() < options.icp_min_vertices) {
       kept.push_back(std::move(c));
       continue;
     }
-    const auto fit = icp(source, target);
-    if (!fit) continue;
-    // How far ICP moves the source object and how much it turns it (T's translation alone is
-    // the motion of the global origin: metres for a slight turn of an object far from it).
-    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    for (const Eigen::Vector3d& p : source) centroid += p;
-    centroid /= static_cast<double>(source.size());
-    const Eigen::Isometry3d& T = fit.value().T_target_source;
-    const double shift = (T * centroid - centroid).norm();
-    const double turn_deg = Eigen::AngleAxisd(T.linear()).angle() * 180.0 / M_PI;
-    if (shift > options.icp_max_shift_m) continue;
-    if (turn_deg > options.icp_max_rotation_deg) {
+    IcpCache::Entry entry{target_key, source_key, X_target.inverse() * X_source, false, {}};
+    const IcpCache::Entry* last = nullptr;
+    if (cache != nullptr) {
+      const auto it = cache->entries.find({c.target, c.source});
+      if (it != cache->entries.end()) last = &it->second;
+    }
+    if (last != nullptr && last->target_key == target_key && last->source_key == source_key) {
+      const Eigen::Isometry3d delta = last->relative.inverse() * entry.relative;
+      if (delta.translation().norm() < 1e-3 && Eigen::AngleAxisd(delta.linear()).angle() < 1e-3) {
+        ++reused;
+        checked[{c.target, c.source}] = *last;
+        if (last->kept) {
+          c.T_target_source = last->T_target_source;
+          kept.push_back(std::move(c));
+        }
+        continue;
+      }
+    }
+    const auto verdict = [&]() -> bool {
+      const auto fit = icp(source, target);
+      if (!fit) return false;
+      // How far ICP moves the source object and how much it turns it (T's translation alone is
+      // the motion of the global origin: metres for a slight turn of an object far from it).
+      Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+      for (const Eigen::Vector3d& p : source) centroid += p;
+      centroid /= static_cast<double>(source.size());
+      const Eigen::Isometry3d& T = fit.value().T_target_source;
+      const double shift = (T * centroid - centroid).norm();
+      const double turn_deg = Eigen::AngleAxisd(T.linear()).angle() * 180.0 / M_PI;
+      if (shift > options.icp_max_shift_m) return false;
       // A wrong fit (the robots are aligned), not a sign of two objects: the plain factor.
-      kept.push_back(std::move(c));
-      continue;
-    }
-    if (double(fit.value().inliers.size()) < options.icp_min_paired_share * double(source.size()) ||
-        fit.value().rmse > options.icp_max_rmse_m)
-      continue;
-    c.T_target_source = X_target.inverse() * fit.value().T_target_source * X_source;
-    kept.push_back(std::move(c));
+      if (turn_deg > options.icp_max_rotation_deg) return true;
+      if (double(fit.value().inliers.size()) <
+              options.icp_min_paired_share * double(source.size()) ||
+          fit.value().rmse > options.icp_max_rmse_m)
+        return false;
+      c.T_target_source = X_target.inverse() * fit.value().T_target_source * X_source;
+      return true;
+    };
+    entry.kept = verdict();
+    entry.T_target_source = c.T_target_source;
+    checked[{c.target, c.source}] = entry;
+    if (entry.kept) kept.push_back(std::move(c));
+  }
+  if (cache != nullptr) {
+    cache->entries = std::move(checked);
+    cache->reused = reused;
+    cache->computed = cache->entries.size() - reused;
   }
   return kept;
 }

@@ -87,16 +87,32 @@ std::vector<MergeCandidate> proposeMerges(
     const ReconciliationOptions& options = {},
     const std::map<NodeId, Eigen::Vector3d>* optimized = nullptr);
 
+/// ICP's verdicts on object pairs (target, source), kept for the next check. ICP's result, the
+/// checks on it and the factor's measurement depend only on the two objects' vertices and how they
+/// are placed relative to each other; a pair whose objects kept their vertices and whose relative
+/// placement moved less than 1 mm and 1 mrad takes its last verdict without ICP.
+struct IcpCache {
+  struct Entry {
+    double target_key = 0.0, source_key = 0.0;  ///< the objects' vertices (count and sums)
+    Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();  ///< X_target^-1 X_source
+    bool kept = false;
+    std::optional<Eigen::Isometry3d> T_target_source;
+  };
+  std::map<std::pair<NodeId, NodeId>, Entry> entries;
+  size_t reused = 0, computed = 0;  ///< pairs of the last check
+};
+
 /// Checks the object candidates by ICP on their mesh vertices (`meshes`: each robot's, in its own
 /// frame); drops those that do not fit and gives the others their measurement. Places pass.
 /// `moved`, when given, holds per object the rigid motion (global frame) a solve applied to it
 /// after the alignment: its vertices and node are moved by it before ICP, rotation included, so
 /// an alignment's yaw error that the solve corrected does not turn one copy against the other.
+/// `cache`, when given, is read and updated (IcpCache; pairs not among the candidates leave it).
 std::vector<MergeCandidate> refineObjectMerges(
     std::vector<MergeCandidate> candidates, const SceneGraph& frontend,
     const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
     const std::map<RobotId, const Mesh*>& meshes, const ReconciliationOptions& options = {},
-    const std::map<NodeId, Eigen::Isometry3d>* moved = nullptr);
+    const std::map<NodeId, Eigen::Isometry3d>* moved = nullptr, IcpCache* cache = nullptr);
 
 /// The merge factors: ICP's measurement where there is one, else zero translation (with the
 /// rotation the alignment gives, weighted unmeasured_rotation_variance).
