@@ -107,7 +107,8 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
   };
 
   // Polish: the exact optimum over the inliers with the configured (sparse) solver; then take
-  // back rejected loop closures that fit it, and repeat until none does.
+  // back rejected loop closures that fit it, and repeat until none does. With sparse Cholesky
+  // throughout, the solves reuse GNC's problem (the same optimum: a factor at weight 0 is none).
   const double c2 = options.gnc.thresholdSq();
   const auto polish = [&] {
     for (int round = 0; round < 10; ++round) {
@@ -115,11 +116,26 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
       for (size_t k = 0; k < graph.edges.size(); ++k) {
         if (result.edge_inlier[k]) inliers.edges.push_back(graph.edges[k]);
       }
-      PoseGraphProblem polished(inliers, result.poses, anchor, options.solver);
-      if (!options.constant.empty()) polished.holdConstant(options.constant);
-      const SolveSummary summary = polished.solve();
+      SolveSummary summary;
+      if (conjugate_gradients) {
+        // A problem over the inliers alone: the outliers' fill-in is what made GNC use CG.
+        PoseGraphProblem polished(inliers, result.poses, anchor, options.solver);
+        if (!options.constant.empty()) polished.holdConstant(options.constant);
+        summary = polished.solve();
+        result.poses = polished.poses();
+      } else {
+        // GNC's problem, its analysis and factor kept, with the rejected at weight 0.
+        const PoseGraphOptimizerOptions inner = problem.options();
+        std::vector<double> weights(graph.edges.size());
+        for (size_t k = 0; k < weights.size(); ++k) weights[k] = result.edge_inlier[k] ? 1.0 : 0.0;
+        problem.setWeights(weights);
+        problem.setPoses(result.poses);
+        problem.setOptions(options.solver);
+        summary = problem.solve();
+        problem.setOptions(inner);
+        result.poses = problem.poses();
+      }
       record(summary);
-      result.poses = polished.poses();
 
       size_t readmitted = 0;
       if (options.readmit_consistent) {
