@@ -112,13 +112,15 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
   const double c2 = options.gnc.thresholdSq();
   const auto polish = [&] {
     for (int round = 0; round < 10; ++round) {
-      PoseGraph inliers;
-      for (size_t k = 0; k < graph.edges.size(); ++k) {
-        if (result.edge_inlier[k]) inliers.edges.push_back(graph.edges[k]);
-      }
+      const size_t inlier_edges =
+          std::count(result.edge_inlier.begin(), result.edge_inlier.end(), true);
       SolveSummary summary;
       if (conjugate_gradients) {
         // A problem over the inliers alone: the outliers' fill-in is what made GNC use CG.
+        PoseGraph inliers;
+        for (size_t k = 0; k < graph.edges.size(); ++k) {
+          if (result.edge_inlier[k]) inliers.edges.push_back(graph.edges[k]);
+        }
         PoseGraphProblem polished(inliers, result.poses, anchor, options.solver);
         if (!options.constant.empty()) polished.holdConstant(options.constant);
         summary = polished.solve();
@@ -160,7 +162,7 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
         }
       }
       if (options.progress) {
-        options.progress("solve over the " + std::to_string(inliers.edges.size()) +
+        options.progress("solve over the " + std::to_string(inlier_edges) +
                          " inlier edges: " + std::to_string(summary.iterations) +
                          " iterations in " + seconds(summary.time_s) + "; " +
                          std::to_string(readmitted) + " rejected loop closures fit it again");
