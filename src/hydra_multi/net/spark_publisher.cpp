@@ -45,9 +45,10 @@ struct SparkPublisher::Impl {
         if (!include_mesh) spark.mesh.reset();
       }
       const std::string message = io::spark::encodeWire(spark, version);
-      (void)pub.send(zmq::buffer(message), zmq::send_flags::none);
+      // Counted before it is handed over: a subscriber that has it sees the count include it.
       last_bytes = message.size();
       ++published;
+      (void)pub.send(zmq::buffer(message), zmq::send_flags::none);
     }
   }
 };

@@ -31,8 +31,8 @@ class SparkPublisher {
   void publish(const SceneGraph& graph);
   /// Queues a graph in Spark-DSG's form as it is (its mesh left out unless included).
   void publish(io::spark::Graph graph);
-  uint64_t published() const;  ///< messages sent
-  size_t lastBytes() const;    ///< of the last message sent
+  uint64_t published() const;  ///< messages handed to the socket
+  size_t lastBytes() const;    ///< of the last message handed to the socket
 
  private:
   struct Impl;
