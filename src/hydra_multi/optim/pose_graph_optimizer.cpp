@@ -240,6 +240,11 @@ std::vector<double> PoseGraphProblem::squaredResiduals() const {
   return result;
 }
 
+double PoseGraphProblem::choleskyFlopsPerPose() {
+  const SparseLevenbergMarquardt& lm = impl_->sparse();
+  return lm.factorizationFlops() / static_cast<double>(std::max<size_t>(lm.freePoses(), 1));
+}
+
 bool PoseGraphProblem::edgeIncluded(size_t edge) const {
   return edge < impl_->edges.size() && impl_->edges[edge].cost != nullptr;
 }

@@ -83,6 +83,9 @@ class PoseGraphProblem {
   /// the squared Mahalanobis norm for geodesic residuals, the chordal cost term for chordal ones.
   std::vector<double> squaredResiduals() const;
   bool edgeIncluded(size_t edge) const;
+  /// Floating-point operations of one sparse Cholesky factorization per free pose (the ordering
+  /// and analysis are made here if no solve made them yet): how much the factor fills in.
+  double choleskyFlopsPerPose();
 
  private:
   struct Impl;

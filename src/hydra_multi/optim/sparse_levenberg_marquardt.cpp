@@ -57,6 +57,7 @@ struct SparseLevenbergMarquardt::Impl {
   cholmod_common common;
   cholmod_sparse* H = nullptr;
   cholmod_factor* L = nullptr;
+  double flops = 0.0;  // of one factorization, from the analysis
 
   ~Impl() {
     if (L != nullptr) cholmod_l_free_factor(&L, &common);
@@ -312,6 +313,7 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
   m.common.nmethods = 1;
   m.common.method[0].ordering = CHOLMOD_NATURAL;
   m.L = cholmod_l_analyze(m.H, &m.common);
+  if (m.L != nullptr) m.flops = m.common.fl;
   if (m.L != nullptr && !m.L->is_super) {
     cholmod_l_free_sparse(&m.H, &m.common);
     m.H = store(position, 1, true);
@@ -319,6 +321,9 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
 }
 
 SparseLevenbergMarquardt::~SparseLevenbergMarquardt() = default;
+
+double SparseLevenbergMarquardt::factorizationFlops() const { return impl_->flops; }
+size_t SparseLevenbergMarquardt::freePoses() const { return impl_->variables; }
 
 LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
                                           const std::vector<double>& weights,

@@ -67,6 +67,10 @@ class SparseLevenbergMarquardt {
   /// Moves `poses` (one per pose) towards the minimum; `weights`: one per term.
   LmSummary solve(std::vector<PoseParameters>& poses, const std::vector<double>& weights,
                   const LmOptions& options);
+  /// Floating-point operations of one factorization, as CHOLMOD's analysis counts them (fixed by
+  /// the pattern: every term, whatever its weight); 0 if the analysis failed.
+  double factorizationFlops() const;
+  size_t freePoses() const;
 
  private:
   struct Impl;
