@@ -87,7 +87,8 @@ int main(int argc, char** argv) {
       pgo_cmd
           ->add_option(
               "--linear-solver", pgo.linear_solver,
-              "GNC solves: auto (Cholesky unless one iteration takes > 0.5 s), cholesky, cg")
+              "GNC solves: auto (Cholesky unless a factorization takes > 2 MFLOP per pose), "
+              "cholesky, cg")
           ->check(CLI::IsMember({"auto", "cholesky", "cg"}))
           ->capture_default_str();
   CLI::Option* gnc_inner =

@@ -253,8 +253,8 @@ int runPgo(const PgoOptions& o) {
   options.solver.function_tolerance = o.tolerance;
   options.solver.num_threads = o.threads;
   options.gnc_inner_iterations = o.gnc_inner_iterations;
-  if (o.linear_solver == "cg") options.cholesky_seconds_per_iteration_limit = 0.0;
-  if (o.linear_solver == "cholesky") options.cholesky_seconds_per_iteration_limit = 1e300;
+  if (o.linear_solver == "cg") options.cholesky_mflops_per_pose_limit = 0.0;
+  if (o.linear_solver == "cholesky") options.cholesky_mflops_per_pose_limit = 1e300;
   if (!o.quiet)
     options.progress = [](const std::string& line) { std::cerr << "pgo:   " << line << "\n"; };
   progress(std::string("optimizing ") + std::to_string(initial.size()) + " poses, " + o.residual +

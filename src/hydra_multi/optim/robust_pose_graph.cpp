@@ -49,16 +49,12 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
     }
   }
 
-  // The first GNC solve decides the linear solver: one timed Cholesky iteration (see options).
+  // Before GNC's first solve, the factor's fill decides the linear solver (see options).
   bool conjugate_gradients = false, chosen = false;
   const auto chooseLinearSolver = [&]() {
     chosen = true;
-    PoseGraphOptimizerOptions probe = options.solver;
-    probe.max_iterations = 1;
-    problem.setOptions(probe);
-    const SolveSummary summary = problem.solve();
-    result.solver_iterations += summary.iterations;
-    conjugate_gradients = summary.time_s > options.cholesky_seconds_per_iteration_limit;
+    const double mflops = problem.choleskyFlopsPerPose() / 1e6;
+    conjugate_gradients = mflops > options.cholesky_mflops_per_pose_limit;
     PoseGraphOptimizerOptions inner = options.solver;
     if (options.gnc_inner_iterations > 0) inner.max_iterations = options.gnc_inner_iterations;
     if (conjugate_gradients) {
@@ -66,10 +62,10 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
     }
     problem.setOptions(inner);
     if (options.progress) {
-      options.progress("one Cholesky iteration took " + seconds(summary.time_s) + " (" +
-                       std::to_string(problem.choleskyFlopsPerPose() / 1e6) + " MFLOP per pose): " +
-                       (conjugate_gradients ? "conjugate gradients" : "sparse Cholesky") +
-                       " for the GNC solves");
+      options.progress(
+          "a sparse Cholesky factorization takes " + std::to_string(mflops) +
+          " MFLOP per pose: " + (conjugate_gradients ? "conjugate gradients" : "sparse Cholesky") +
+          " for the GNC solves");
     }
   };
 

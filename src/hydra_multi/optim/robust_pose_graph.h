@@ -20,13 +20,15 @@ struct RobustPgoOptions {
   /// Start every GNC solve from the initial values (GTSAM's choice) instead of the previous
   /// solution (warm start, the default).
   bool restart_from_initial = false;
-  /// While outlier loop closures carry weight they join random poses and a sparse Cholesky factor
-  /// fills in (sphere2500 with 50 % outliers: ~9 s per iteration instead of 0.13 s). GNC's first
-  /// solve therefore times one Cholesky iteration; when it takes longer than this, the GNC solves
-  /// use conjugate gradients, and the result is polished by one Cholesky solve over the known
-  /// inliers and the loop closures GNC kept (sparse again). 0 forces conjugate gradients; a huge
-  /// value forces Cholesky.
-  double cholesky_seconds_per_iteration_limit = 0.5;
+  /// Outlier loop closures join random poses, and the sparse Cholesky factor of a pattern that
+  /// holds them fills in (sphere2500 with 50 % outliers: ~9 s per iteration instead of 0.13 s).
+  /// When one factorization takes more than this many MFLOP per free pose (CHOLMOD's analysis of
+  /// the pattern: fixed, whatever the load of the machine), the GNC solves use conjugate
+  /// gradients, and the result is polished by one Cholesky solve over the known inliers and the
+  /// loop closures GNC kept (sparse again). 0 forces conjugate gradients; a huge value forces
+  /// Cholesky. docs/DECISIONS.md: "Conjugate gradients by the factor's fill, not by a timed
+  /// iteration".
+  double cholesky_mflops_per_pose_limit = 2.0;
   /// After GNC, loop closures it rejected whose squared residual at the final solution is within
   /// the inlier threshold are taken back and the inliers re-solved, until nothing changes. GNC is
   /// local: on CSAIL it ended with 12 of 128 true closures rejected that all fit its own solution.
