@@ -4,6 +4,7 @@
 
 #include "hydra_multi/optim/chordal_initialization.h"
 #include "hydra_multi/optim/io/g2o_format.h"
+#include "hydra_multi/optim/outlier_injection.h"
 #include "hydra_multi/optim/pose_graph_optimizer.h"
 #include "support/random_graphs.h"
 
@@ -211,6 +212,22 @@ TEST(PoseGraphOptimizer, ReachesCertifiedOptimumOnParkingGarage) {
   const double f = optimizedSesyncCost("parking-garage.g2o");
   EXPECT_GE(f, f_star * (1 - 1e-4));
   EXPECT_LE(f, f_star * 1.001);
+}
+
+// The fill GNC's choice of linear solver reads (RobustPgoOptions::cholesky_mflops_per_pose_limit,
+// 2): sphere2500 as it is stays sparse, with half of its loop closures random outliers it fills in.
+TEST(PoseGraphOptimizer, OutliersThatJoinRandomPosesFillTheFactorIn) {
+  auto g2o = io::readG2o(testing::dataDir() + "/pgo/sphere2500.g2o");
+  ASSERT_TRUE(g2o.ok()) << g2o.error();
+  PoseGraph g = g2o.value().graph;
+  classifyEdges(g);
+  const NodeId anchor = g.poses.begin()->first;
+  const double clean = PoseGraphProblem(g, g.poses, anchor).choleskyFlopsPerPose() / 1e6;
+  EXPECT_GT(injectOutliers(g, g.poses, 0.5, 1), 2000u);
+  const double outliers = PoseGraphProblem(g, g.poses, anchor).choleskyFlopsPerPose() / 1e6;
+  EXPECT_GT(clean, 0.01);
+  EXPECT_LT(clean, 0.5);
+  EXPECT_GT(outliers, 10.0);
 }
 
 }  // namespace
