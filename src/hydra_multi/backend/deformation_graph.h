@@ -66,13 +66,7 @@ struct DeformationGraphOptions {
   bool use_sent_information = false;
   double place_link_radius = 3.0;  ///< m: a place links to a control point this close, else
                                    ///< to its nearest keyframe
-  /// GNC over the skeleton; one Levenberg-Marquardt iteration per GNC solve (docs/DECISIONS.md:
-  /// "One iteration per GNC solve in the station").
-  RobustPgoOptions solver = [] {
-    RobustPgoOptions o;
-    o.gnc_inner_iterations = 1;
-    return o;
-  }();
+  RobustPgoOptions solver;
   bool two_stage = true;  ///< GNC on the skeleton, then one solve of the whole graph
   /// Rotation variance of the odometry, in both solves (its translation's is odometry_variance).
   double odometry_rotation_variance = 1e-4;

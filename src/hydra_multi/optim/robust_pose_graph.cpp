@@ -9,23 +9,6 @@ namespace {
 
 std::string seconds(double s) { return std::to_string(s) + " s"; }
 
-// 1/2 sum_k w_k r_k^2 at the problem's poses (weights empty: all 1).
-double weightedCost(const PoseGraphProblem& problem, const std::vector<double>& weights) {
-  const std::vector<double> r2 = problem.squaredResiduals();
-  double cost = 0.0;
-  for (size_t k = 0; k < r2.size(); ++k)
-    cost += 0.5 * (k < weights.size() ? weights[k] : 1.0) * r2[k];
-  return cost;
-}
-
-// Puts the problem at `start` when its weighted cost is lower there than at `current`.
-void startAtCheaper(PoseGraphProblem& problem, const std::vector<double>& weights,
-                    const std::map<NodeId, Eigen::Isometry3d>& current,
-                    const std::map<NodeId, Eigen::Isometry3d>& start) {
-  const double at_start = weightedCost(problem.setPoses(start), weights);
-  if (weightedCost(problem.setPoses(current), weights) > at_start) problem.setPoses(start);
-}
-
 // The solve of optimizePoseGraph over a graph without leaves.
 RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
                                       const std::map<NodeId, Eigen::Isometry3d>& initial,
@@ -123,8 +106,6 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
   // Polish: the exact optimum over the inliers with the configured (sparse) solver; then take
   // back rejected loop closures that fit it, and repeat until none does. With sparse Cholesky
   // throughout, the solves reuse GNC's problem (the same optimum: a factor at weight 0 is none).
-  // Each solve starts where the inliers cost less: at the last solution or at `initial` (a
-  // warm-started round whose re-admissions restore the inliers of the round it started from).
   const double c2 = options.gnc.thresholdSq();
   const auto polish = [&] {
     for (int round = 0; round < 10; ++round) {
@@ -139,7 +120,6 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
         }
         PoseGraphProblem polished(inliers, result.poses, anchor, options.solver);
         if (!options.constant.empty()) polished.holdConstant(options.constant);
-        startAtCheaper(polished, {}, result.poses, initial);
         summary = polished.solve();
         result.poses = polished.poses();
       } else {
@@ -148,7 +128,7 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
         std::vector<double> weights(graph.edges.size());
         for (size_t k = 0; k < weights.size(); ++k) weights[k] = result.edge_inlier[k] ? 1.0 : 0.0;
         problem.setWeights(weights);
-        startAtCheaper(problem, weights, result.poses, initial);
+        problem.setPoses(result.poses);
         problem.setOptions(options.solver);
         summary = problem.solve();
         problem.setOptions(inner);

@@ -13,7 +13,7 @@
 //                        "mesh_variance": 0.01, "odometry_rotation_variance": 0.0001,
 //                        "link_max_dt_s": 10.0, "two_stage": true, "final_iterations": 10,
 //                        "gnc_mu_step": 1.4, "gnc_inlier_probability": 0.99,
-//                        "gnc_inner_iterations": 1},
+//                        "gnc_inner_iterations": 3},
 //     "reconciliation": {"enabled": true, "place_max_distance": 0.3,
 //                        "place_max_radius_difference": 0.3, "min_valid_share": 0.5,
 //                        "merge_variance": 0.05, "label_votes": false, "label_confusion": 0.1,
