@@ -269,12 +269,36 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
   }
   std::map<NodeId, Eigen::Isometry3d> initial_poses = robust.poses;
   if (warm != nullptr) {
+    std::set<NodeId> unplaced;
     for (auto& [id, pose] : initial_poses) {
       if (const auto it = warm->poses.find(id); it != warm->poses.end()) {
         pose = it->second;
-      } else if (const auto then = warm->last_whole.find(id); then != warm->last_whole.end()) {
-        pose = then->second;  // e.g. an object only merge candidates bring in
+      } else {
+        unplaced.insert(id);
       }
+    }
+    // A node the warm start lacks (an object only merge candidates bring in) starts where its tie
+    // to a placed node puts it: as the earlier skeleton solution placed the two relative to each
+    // other, or else by the tie, as a solve without the node places a leaf.
+    const auto earlier = [&warm](NodeId id) {
+      const auto it = warm->last_skeleton.find(id);
+      return it == warm->last_skeleton.end() ? std::optional<Eigen::Isometry3d>() : it->second;
+    };
+    for (const PoseGraphEdge& e : robust.edges) {
+      if (e.kind == PoseGraphEdge::Kind::kLoopClosure) continue;
+      const bool from = unplaced.count(e.from) != 0, to = unplaced.count(e.to) != 0;
+      if (from == to || !initial_poses.count(e.from) || !initial_poses.count(e.to)) continue;
+      const NodeId placed = to ? e.from : e.to, node = to ? e.to : e.from;
+      const auto placed_then = earlier(placed), node_then = earlier(node);
+      initial_poses[node] =
+          initial_poses[placed] * (placed_then && node_then ? placed_then->inverse() * *node_then
+                                   : to                     ? e.T_from_to
+                                                            : e.T_from_to.inverse());
+      unplaced.erase(node);
+    }
+    for (const NodeId id : unplaced) {
+      if (const auto then = warm->last_whole.find(id); then != warm->last_whole.end())
+        initial_poses[id] = then->second;
     }
   }
   result.solve = optimizePoseGraph(robust, initial_poses, graph.anchor, solver);
