@@ -130,14 +130,24 @@ TEST(SceneGraph, MergeAndUndo) {
 TEST(SceneGraph, RobotAndLayerQueriesFollowEveryChange) {
   const auto check = [](const SceneGraph& g) {
     std::map<RobotId, std::vector<NodeId>> of_robot;
+    std::map<std::pair<RobotId, Layer>, std::vector<NodeId>> of_robot_in_layer;
     std::map<Layer, std::vector<NodeId>> in_layer;
     for (const auto& [id, node] : g.nodes()) {
-      if (const auto robot = node.robot()) of_robot[*robot].push_back(id);
+      // Found by id as the graph's own node (a copy's lookups never reach the original).
+      EXPECT_EQ(g.findNode(id), &node) << id.str();
+      if (const auto robot = node.robot()) {
+        of_robot[*robot].push_back(id);
+        of_robot_in_layer[{*robot, node.layer()}].push_back(id);
+      }
       in_layer[node.layer()].push_back(id);
     }
     for (const char prefix : {'a', 'b', 'c'}) {
       const RobotId robot = *RobotId::fromPrefix(prefix);
       EXPECT_EQ(g.nodesOfRobot(robot), of_robot[robot]) << prefix;
+      for (const Layer layer : kAllLayers) {
+        EXPECT_EQ(g.nodesOfRobot(robot, layer), (of_robot_in_layer[{robot, layer}]))
+            << prefix << " " << layerName(layer);
+      }
     }
     for (const Layer layer : kAllLayers) {
       EXPECT_EQ(g.nodesInLayer(layer), in_layer[layer]) << layerName(layer);
@@ -168,6 +178,12 @@ TEST(SceneGraph, RobotAndLayerQueriesFollowEveryChange) {
   check(g);
   const SceneGraph copy = g;
   check(copy);
+  SceneGraph assigned;
+  assigned = copy;
+  g = SceneGraph();  // the copies outlive what they were copied from
+  check(assigned);
+  EXPECT_FALSE(assigned.findNode(NodeId('c', 3)));
+  EXPECT_EQ(assigned, copy);
 }
 
 // The source's children move to the target, and go back on undo.

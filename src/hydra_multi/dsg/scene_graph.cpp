@@ -40,27 +40,50 @@ void fuseAttributes(Node& target, const Node& source) {
 
 }  // namespace
 
+SceneGraph::SceneGraph(const SceneGraph& other)
+    : nodes_(other.nodes_),
+      edges_(other.edges_),
+      adjacency_(other.adjacency_),
+      by_robot_(other.by_robot_),
+      by_robot_layer_(other.by_robot_layer_),
+      by_layer_(other.by_layer_),
+      mesh_(other.mesh_) {
+  index_.reserve(nodes_.size());
+  for (auto& [id, node] : nodes_) index_.emplace(id, &node);
+}
+
+SceneGraph& SceneGraph::operator=(const SceneGraph& other) {
+  if (this != &other) *this = SceneGraph(other);
+  return *this;
+}
+
 bool SceneGraph::addOrUpdateNode(Node node) {
-  auto it = nodes_.find(node.id);
-  if (it == nodes_.end()) {
+  const auto known = index_.find(node.id);
+  if (known == index_.end()) {
     const NodeId id = node.id;
-    if (const auto robot = node.robot()) by_robot_[*robot].insert(id);
+    if (const auto robot = node.robot()) {
+      by_robot_[*robot].insert(id);
+      by_robot_layer_[{*robot, node.layer()}].insert(id);
+    }
     by_layer_[node.layer()].insert(id);
-    nodes_.emplace(id, std::move(node));
+    Node& added = nodes_.emplace(id, std::move(node)).first->second;
+    index_.emplace(id, &added);
     adjacency_[id];
     return true;
   }
-  if (it->second.layer() != node.layer()) {
+  Node& existing = *known->second;
+  if (existing.layer() != node.layer()) {
     throw std::invalid_argument("node " + node.id.str() + " exists in layer " +
-                                layerName(it->second.layer()) + ", not " + layerName(node.layer()));
+                                layerName(existing.layer()) + ", not " + layerName(node.layer()));
   }
-  it->second = std::move(node);
+  existing = std::move(node);
   return false;
 }
 
 bool SceneGraph::removeNode(NodeId id) {
   auto it = nodes_.find(id);
   if (it == nodes_.end()) return false;
+  index_.erase(id);
   const std::set<NodeId> neighbours = adjacency_[id];
   for (const NodeId other : neighbours) removeEdge(id, other);
   adjacency_.erase(id);
@@ -68,6 +91,9 @@ bool SceneGraph::removeNode(NodeId id) {
     const auto of_robot = by_robot_.find(*robot);
     of_robot->second.erase(id);
     if (of_robot->second.empty()) by_robot_.erase(of_robot);
+    const auto of_layer = by_robot_layer_.find({*robot, it->second.layer()});
+    of_layer->second.erase(id);
+    if (of_layer->second.empty()) by_robot_layer_.erase(of_layer);
   }
   by_layer_[it->second.layer()].erase(id);
   nodes_.erase(it);
@@ -75,8 +101,8 @@ bool SceneGraph::removeNode(NodeId id) {
 }
 
 const Node* SceneGraph::findNode(NodeId id) const {
-  auto it = nodes_.find(id);
-  return it == nodes_.end() ? nullptr : &it->second;
+  const auto it = index_.find(id);
+  return it == index_.end() ? nullptr : it->second;
 }
 
 const Node& SceneGraph::getNode(NodeId id) const {
@@ -86,8 +112,8 @@ const Node& SceneGraph::getNode(NodeId id) const {
 }
 
 Node* SceneGraph::findMutableNode(NodeId id) {
-  auto it = nodes_.find(id);
-  return it == nodes_.end() ? nullptr : &it->second;
+  const auto it = index_.find(id);
+  return it == index_.end() ? nullptr : it->second;
 }
 
 bool SceneGraph::addOrUpdateEdge(NodeId a, NodeId b, EdgeAttributes info) {
@@ -178,6 +204,12 @@ std::vector<NodeId> SceneGraph::nodesInLayer(Layer layer) const {
 std::vector<NodeId> SceneGraph::nodesOfRobot(RobotId robot) const {
   const auto it = by_robot_.find(robot);
   if (it == by_robot_.end()) return {};
+  return {it->second.begin(), it->second.end()};
+}
+
+std::vector<NodeId> SceneGraph::nodesOfRobot(RobotId robot, Layer layer) const {
+  const auto it = by_robot_layer_.find({robot, layer});
+  if (it == by_robot_layer_.end()) return {};
   return {it->second.begin(), it->second.end()};
 }
 

@@ -31,13 +31,19 @@ struct MergeRecord {
 
 class SceneGraph {
  public:
+  SceneGraph() = default;
+  SceneGraph(const SceneGraph& other);
+  SceneGraph(SceneGraph&&) = default;
+  SceneGraph& operator=(const SceneGraph& other);
+  SceneGraph& operator=(SceneGraph&&) = default;
+
   // --- nodes ---
   /// Adds the node, or replaces the node with the same id; returns true when it was added.
   /// Throws std::invalid_argument when a node with this id exists in another layer.
   bool addOrUpdateNode(Node node);
   /// Removes the node and its edges; false when there is no such node.
   bool removeNode(NodeId id);
-  bool hasNode(NodeId id) const { return nodes_.count(id) != 0; }
+  bool hasNode(NodeId id) const { return index_.count(id) != 0; }
   const Node* findNode(NodeId id) const;
   /// The node; throws std::out_of_range when absent.
   const Node& getNode(NodeId id) const;
@@ -62,6 +68,8 @@ class SceneGraph {
   std::vector<NodeId> nodesInLayer(Layer layer) const;
   /// Nodes of a robot: its agent poses, and station nodes whose source it is.
   std::vector<NodeId> nodesOfRobot(RobotId robot) const;
+  /// Those of them in one layer.
+  std::vector<NodeId> nodesOfRobot(RobotId robot, Layer layer) const;
   /// Robots that own a node or a mesh vertex, in order.
   std::vector<RobotId> robots() const;
   size_t numNodes() const { return nodes_.size(); }
@@ -89,11 +97,15 @@ class SceneGraph {
 
  private:
   std::map<NodeId, Node> nodes_;
+  // Every node of nodes_ by id, hashed: lookups without a walk down the tree (std::map keeps a
+  // node's address until it is erased; a copy re-points the index at its own nodes).
+  std::unordered_map<NodeId, Node*> index_;
   std::map<EdgeKey, EdgeAttributes> edges_;
   std::unordered_map<NodeId, std::set<NodeId>> adjacency_;
   // Node ids by robot and by layer (a node's id and layer never change): nodesOfRobot and
   // nodesInLayer without a pass over every node.
   std::map<RobotId, std::set<NodeId>> by_robot_;
+  std::map<std::pair<RobotId, Layer>, std::set<NodeId>> by_robot_layer_;
   std::map<Layer, std::set<NodeId>> by_layer_;
   Mesh mesh_;
 };
