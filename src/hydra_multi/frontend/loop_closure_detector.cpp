@@ -23,9 +23,8 @@ T median(std::vector<T> values) {
 std::optional<NodeId> keyframeNearest(const SceneGraph& graph, RobotId robot, int64_t time_ns) {
   std::optional<NodeId> best;
   int64_t best_gap = std::numeric_limits<int64_t>::max();
-  for (const NodeId id : graph.nodesOfRobot(robot)) {
-    const Node& node = graph.getNode(id);
-    const AgentAttributes* agent = node.find<AgentAttributes>();
+  for (const NodeId id : graph.nodesOfRobot(robot, Layer::kAgents)) {
+    const AgentAttributes* agent = graph.getNode(id).find<AgentAttributes>();
     if (agent == nullptr) continue;
     const int64_t gap = std::llabs(agent->timestamp_ns - time_ns);
     if (gap < best_gap) {
@@ -34,6 +33,32 @@ std::optional<NodeId> keyframeNearest(const SceneGraph& graph, RobotId robot, in
     }
   }
   return best;
+}
+
+// The keyframe of the highest score (ties: the lower index) among those `ranked` admits that
+// `accept` accepts. One pass when the best is accepted (the usual case), else a heap of the rest.
+template <typename Ranked, typename Accept>
+std::optional<size_t> bestAccepted(const std::vector<double>& score, Ranked ranked, Accept accept) {
+  std::optional<size_t> best;
+  for (size_t k = 0; k < score.size(); ++k) {
+    if ((!best || score[k] > score[*best]) && ranked(k)) best = k;
+  }
+  if (!best || accept(*best)) return best;
+  const auto worse = [](const std::pair<double, size_t>& a, const std::pair<double, size_t>& b) {
+    return a.first < b.first || (a.first == b.first && a.second > b.second);
+  };
+  std::vector<std::pair<double, size_t>> heap;
+  for (size_t k = 0; k < score.size(); ++k) {
+    if (k != *best && ranked(k)) heap.emplace_back(score[k], k);
+  }
+  std::make_heap(heap.begin(), heap.end(), worse);
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end(), worse);
+    const size_t k = heap.back().second;
+    heap.pop_back();
+    if (accept(k)) return k;
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -74,14 +99,7 @@ std::vector<DetectedLoopClosure> LoopClosureDetector::run(const SceneGraphProces
                                                           bool all) {
   std::vector<DetectedLoopClosure> found;
   const SceneGraph& graph = processor.graph();
-  label_objects_.clear();
-  objects_ = 0;
-  for (const NodeId id : graph.nodesInLayer(Layer::kObjects)) {
-    if (const auto* semantic = graph.getNode(id).semantic()) {
-      ++label_objects_[semantic->label];
-      ++objects_;
-    }
-  }
+  labels_counted_ = false;
   std::vector<NodeId> later;
   for (const NodeId id : pending_) {
     const Node* node = graph.findNode(id);
@@ -116,8 +134,10 @@ std::vector<DetectedLoopClosure> LoopClosureDetector::run(const SceneGraphProces
       for (const BowEntry& b : visual->bow) words.insert(b.word);
       for (const uint32_t w : words) ++word_keyframes_[w];
     }
-    for (const auto& [word, weight] : entry.d.bow)
-      word_postings_[word].emplace_back(static_cast<uint32_t>(described_.size()), weight);
+    const auto index = static_cast<uint32_t>(described_.size());
+    for (const auto& [word, weight] : entry.d.bow) word_postings_[word].emplace_back(index, weight);
+    for (const auto& [label, weight] : entry.d.object_labels)
+      label_postings_[label].emplace_back(index, weight);
     described_.push_back(std::move(entry));
   }
   pending_ = std::move(later);
@@ -128,60 +148,68 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::match(const SceneGraphPr
                                                               const Entry& query) {
   if (!query.d.root) return std::nullopt;
   const int64_t separation = static_cast<int64_t>(options_.min_time_separation_s * 1e9);
-  const Entry* best_object = nullptr;
-  double best_object_score = 0.0;
-  std::vector<std::pair<double, const Entry*>> visual;
-  // Bag-of-words scores through the words' postings: the sum of the bin-wise minima, over the
-  // shared words in increasing order, as histogramScore adds them.
-  std::vector<double> bow_score;
-  if (!query.d.bow.empty()) {
-    bow_score.assign(described_.size(), 0.0);
-    for (const auto& [word, weight] : query.d.bow) {
-      const auto postings = word_postings_.find(word);
-      if (postings == word_postings_.end()) continue;
-      for (const auto& [k, w] : postings->second) bow_score[k] += std::min(weight, w);
+  // Objects' and bag-of-words scores through the labels' and words' postings: the sum of the
+  // bin-wise minima, over the shared bins in increasing order, as histogramScore adds them.
+  const auto scores = [this](const Histogram& query_bins, const auto& postings_of) {
+    std::vector<double> score;
+    if (query_bins.empty()) return score;
+    score.assign(described_.size(), 0.0);
+    for (const auto& [bin, weight] : query_bins) {
+      const auto postings = postings_of.find(bin);
+      if (postings == postings_of.end()) continue;
+      for (const auto& [k, w] : postings->second) score[k] += std::min(weight, w);
     }
-  }
-  for (size_t k = 0; k < described_.size(); ++k) {
+    return score;
+  };
+  // Whether a described keyframe may close a loop with the query: rooted, and of another robot
+  // (or of its own, long enough apart).
+  const auto eligible = [&](size_t k) {
     const Entry& candidate = described_[k];
-    if (!candidate.d.root) continue;
-    if (candidate.robot == query.robot &&
-        (!options_.detect_intra_robot ||
-         std::llabs(query.time_ns - candidate.time_ns) < separation))
-      continue;
+    return candidate.d.root && (candidate.robot != query.robot ||
+                                (options_.detect_intra_robot &&
+                                 std::llabs(query.time_ns - candidate.time_ns) >= separation));
+  };
+  // Whether its places are alike the query's (top-down: the places prune).
+  const auto alike = [&](size_t k) {
+    const Entry& candidate = described_[k];
     // The places' score over every bin (a bin in neither adds exactly 0).
     double place_score = 0.0;
     const size_t bins = std::min(query.place_bins.size(), candidate.place_bins.size());
     for (size_t b = 0; b < bins; ++b)
       place_score += std::min(query.place_bins[b], candidate.place_bins[b]);
-    if (place_score < options_.place_min_score) continue;
-    if (!query.d.object_labels.empty() && !candidate.d.object_labels.empty()) {
-      const double score = histogramScore(query.d.object_labels, candidate.d.object_labels);
-      if (score >= options_.object_min_score && score > best_object_score) {
-        best_object_score = score;
-        best_object = &candidate;
-      }
-    }
-    if (!query.d.bow.empty() && !candidate.d.bow.empty()) {
-      const double score = bow_score[k];
-      if (score >= options_.bow_min_score) visual.emplace_back(score, &candidate);
-    }
-  }
-  // Bottom-up: objects first, then visual keypoints.
+    return place_score >= options_.place_min_score;
+  };
   const auto plausible = [&](const DetectedLoopClosure& c) {
     return c.T_a_b.translation().norm() <= options_.max_keyframe_distance;
   };
-  if (best_object != nullptr && best_object_score >= options_.object_register_score) {
-    auto closure = verifyObjects(processor, query, *best_object);
+  // Bottom-up: objects first, then visual keypoints. The objects' best eligible keyframe with
+  // places alike (ties: the earlier one), comparing places only down to it.
+  const std::vector<double> object_score = scores(query.d.object_labels, label_postings_);
+  const auto best = bestAccepted(
+      object_score,
+      [&](size_t k) {
+        return object_score[k] >= options_.object_min_score && object_score[k] > 0.0 &&
+               !described_[k].d.object_labels.empty() && eligible(k);
+      },
+      alike);
+  if (best && object_score[*best] >= options_.object_register_score) {
+    auto closure = verifyObjects(processor, query, described_[*best]);
     if (closure && plausible(*closure)) {
-      closure->score = best_object_score;
+      closure->score = object_score[*best];
       return closure;
     }
+  }
+  const std::vector<double> bow_score = scores(query.d.bow, word_postings_);
+  std::vector<std::pair<double, size_t>> visual;
+  for (size_t k = 0; k < bow_score.size(); ++k) {
+    if (bow_score[k] >= options_.bow_min_score && !described_[k].d.bow.empty() && eligible(k) &&
+        alike(k))
+      visual.emplace_back(bow_score[k], k);
   }
   std::sort(visual.begin(), visual.end(),
             [](const auto& a, const auto& b) { return a.first > b.first; });
   for (size_t i = 0; i < visual.size() && i < options_.visual_candidates; ++i) {
-    auto closure = verifyVisual(processor, query, *visual[i].second);
+    auto closure = verifyVisual(processor, query, described_[visual[i].second]);
     if (closure && plausible(*closure)) {
       closure->score = visual[i].first;
       return closure;
@@ -239,6 +267,17 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::verifyObjects(
                                                  std::pow(options_.object_rotation_sigma, 2));
   closure.source = DetectedLoopClosure::Source::kObjects;
   closure.inliers = registration.value().inliers.size();
+  if (!labels_counted_) {
+    label_objects_.clear();
+    objects_ = 0;
+    for (const NodeId id : graph.nodesInLayer(Layer::kObjects)) {
+      if (const auto* semantic = graph.getNode(id).semantic()) {
+        ++label_objects_[semantic->label];
+        ++objects_;
+      }
+    }
+    labels_counted_ = true;
+  }
   for (const size_t i : registration.value().inliers) {
     const auto n = label_objects_.find(pairs[i].first->semantic()->label);
     const size_t count = n == label_objects_.end() ? 1 : std::max<size_t>(1, n->second);

@@ -131,9 +131,13 @@ class LoopClosureDetector {
   /// Per bag-of-words word, the described keyframes holding it (index in described_, weight):
   /// a query's bag-of-words score against each of them without passing over the others.
   std::unordered_map<uint32_t, std::vector<std::pair<uint32_t, double>>> word_postings_;
-  /// Objects per label in the graph and in all, counted once per run() (the graph is fixed then).
+  /// The same per object label: a query's objects score against every described keyframe.
+  std::unordered_map<uint32_t, std::vector<std::pair<uint32_t, double>>> label_postings_;
+  /// Objects per label in the graph and in all, counted at most once per run() (the graph is
+  /// fixed then), when an object match first needs them.
   std::map<uint32_t, size_t> label_objects_;
   size_t objects_ = 0;
+  bool labels_counted_ = false;
   std::vector<DetectedLoopClosure> found_;
 };
 
