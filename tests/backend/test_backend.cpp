@@ -109,9 +109,10 @@ TEST_F(TinyTeam, FullRound) {
   // Every merge is recorded, checkable against the truth, and none joins two true rooms.
   ASSERT_EQ(backend.merges().size(), report.merges_accepted);
   size_t in_rooms = 0, same_room = 0;
+  const TrueRooms true_rooms(*truth_);
   for (const AcceptedMerge& m : backend.merges()) {
     const MergeCheck check =
-        checkMerge(*truth_,
+        checkMerge(true_rooms,
                    {m.target_side.robot, m.target_side.position, m.target_side.keyframe_stamp_ns,
                     m.target_side.T_robot_keyframe},
                    {m.source_side.robot, m.source_side.position, m.source_side.keyframe_stamp_ns,

@@ -182,9 +182,9 @@ int runRun(const RunOptions& o) {
   const auto sideOf = [](const AcceptedMerge::Side& s) {
     return MergeSide{s.robot, s.position, s.keyframe_stamp_ns, s.T_robot_keyframe};
   };
+  const TrueRooms true_rooms(truth.value());
   for (const AcceptedMerge& m : result.merges) {
-    const MergeCheck check =
-        checkMerge(truth.value(), sideOf(m.target_side), sideOf(m.source_side));
+    const MergeCheck check = checkMerge(true_rooms, sideOf(m.target_side), sideOf(m.source_side));
     if (!check.across_rooms) continue;
     ++merges_across_rooms;
     if (!o.quiet) {

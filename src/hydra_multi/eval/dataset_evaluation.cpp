@@ -22,30 +22,31 @@ int64_t cellKey(int x, int y, int floor) {
          static_cast<int64_t>(y + (1 << 20));
 }
 
-// The true room of every free cell, by cell key.
-std::unordered_map<int64_t, int> roomOfCell(const DatasetGroundTruth& truth) {
-  std::unordered_map<int64_t, int> rooms;
-  for (size_t r = 0; r < truth.room_cells.size(); ++r) {
-    for (const Eigen::Vector3i& c : truth.room_cells[r])
-      rooms[cellKey(c.x(), c.y(), c.z())] = truth.room_ids[r];
-  }
-  return rooms;
-}
-
-int trueRoom(const DatasetGroundTruth& truth, const std::unordered_map<int64_t, int>& rooms,
-             const Eigen::Vector3d& p) {
-  const GroundTruthGrid* grid = truth.gridFor(p.z());
-  if (grid == nullptr) return -1;
-  const Eigen::Vector2i c = grid->cellOf(p.head<2>());
-  const auto it = rooms.find(cellKey(c.x(), c.y(), grid->floor));
-  return it == rooms.end() ? -1 : it->second;
-}
-
 }  // namespace
 
-MergeCheck checkMerge(const DatasetGroundTruth& truth, const MergeSide& a, const MergeSide& b,
+TrueRooms::TrueRooms(const DatasetGroundTruth& truth) : truth_(&truth) {
+  for (size_t r = 0; r < truth.room_cells.size(); ++r) {
+    for (const Eigen::Vector3i& c : truth.room_cells[r])
+      room_of_cell_[cellKey(c.x(), c.y(), c.z())] = truth.room_ids[r];
+  }
+}
+
+int TrueRooms::at(const Eigen::Vector3d& p) const {
+  const GroundTruthGrid* grid = truth_->gridFor(p.z());
+  if (grid == nullptr) return -1;
+  const Eigen::Vector2i c = grid->cellOf(p.head<2>());
+  const auto it = room_of_cell_.find(cellKey(c.x(), c.y(), grid->floor));
+  return it == room_of_cell_.end() ? -1 : it->second;
+}
+
+bool TrueRooms::inRoom(int x, int y, int floor) const {
+  return room_of_cell_.count(cellKey(x, y, floor)) != 0;
+}
+
+MergeCheck checkMerge(const TrueRooms& rooms, const MergeSide& a, const MergeSide& b,
                       double min_distance_m) {
   MergeCheck check;
+  const DatasetGroundTruth& truth = rooms.truth();
   const Eigen::Isometry3d* world_a = truth.poseAt(a.robot, a.keyframe_stamp_ns);
   const Eigen::Isometry3d* world_b = truth.poseAt(b.robot, b.keyframe_stamp_ns);
   if (world_a == nullptr || world_b == nullptr) return check;
@@ -53,8 +54,7 @@ MergeCheck checkMerge(const DatasetGroundTruth& truth, const MergeSide& a, const
   const Eigen::Vector3d q = *world_b * (b.T_robot_keyframe.inverse() * b.position);
   check.checked = true;
   check.true_distance_m = (p - q).norm();
-  const auto rooms = roomOfCell(truth);
-  const int room_p = trueRoom(truth, rooms, p), room_q = trueRoom(truth, rooms, q);
+  const int room_p = rooms.at(p), room_q = rooms.at(q);
   check.room_a = room_p;
   check.room_b = room_q;
   check.across_rooms =
@@ -119,7 +119,7 @@ SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundT
   score.places_position_error_m = placesPositionError(places, truth.gvd);
 
   // Rooms: the true free cells inside the spheres of each room's places.
-  const auto free_cells = roomOfCell(truth);
+  const TrueRooms free_cells(truth);
   std::vector<std::vector<Eigen::Vector3i>> estimated;
   for (const NodeId room : graph.nodesInLayer(Layer::kRooms)) {
     std::vector<Eigen::Vector3i> cells;
@@ -136,7 +136,7 @@ SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundT
         for (int dx = -reach; dx <= reach; ++dx) {
           if (std::hypot(dx, dy) * grid->resolution > attributes->distance) continue;
           const int x = centre.x() + dx, y = centre.y() + dy;
-          if (free_cells.count(cellKey(x, y, grid->floor))) cells.emplace_back(x, y, grid->floor);
+          if (free_cells.inRoom(x, y, grid->floor)) cells.emplace_back(x, y, grid->floor);
         }
       }
     }
@@ -221,7 +221,7 @@ Result<DatasetDifficulty> measureDatasetDifficulty(const std::string& dir, size_
   const DatasetGroundTruth& truth = loaded.value();
   DatasetDifficulty difficulty;
   difficulty.object_threshold_m = truth.object_threshold_m;
-  const auto free_cells = roomOfCell(truth);
+  const TrueRooms free_cells(truth);
   // Keyframes count for aliasing inside rooms proper: a corridor is one "room" however long.
   std::set<int> rooms_proper;
   for (size_t i = 0; i < truth.room_ids.size(); ++i) {
@@ -252,7 +252,7 @@ Result<DatasetDifficulty> measureDatasetDifficulty(const std::string& dir, size_
           const Node* agent = graph.findNode(d.keyframe);
           const AgentAttributes* a = agent ? agent->find<AgentAttributes>() : nullptr;
           const Eigen::Isometry3d* T = a ? truth.poseAt(robot, a->timestamp_ns) : nullptr;
-          const int room = T ? trueRoom(truth, free_cells, T->translation()) : -1;
+          const int room = T ? free_cells.at(T->translation()) : -1;
           keyframes.push_back({robot, rooms_proper.count(room) ? room : -1, d.bow});
         }
       });

@@ -15,6 +15,7 @@
 
 #include <optional>
 #include <string>
+#include <unordered_map>
 
 #include "hydra_multi/eval/dataset_ground_truth.h"
 
@@ -93,7 +94,21 @@ struct MergeCheck {
   double true_distance_m = 0.0;
   int room_a = -1, room_b = -1;  ///< true room ids of the two nodes (-1: outside every room)
 };
-MergeCheck checkMerge(const DatasetGroundTruth& truth, const MergeSide& a, const MergeSide& b,
+/// The true room of every free cell of a dataset, indexed once for many look-ups.
+class TrueRooms {
+ public:
+  explicit TrueRooms(const DatasetGroundTruth& truth);
+  const DatasetGroundTruth& truth() const { return *truth_; }
+  /// The true room id at a world position (-1: outside every room).
+  int at(const Eigen::Vector3d& p) const;
+  /// Whether the cell (x, y) of a floor's grid lies in a room.
+  bool inRoom(int x, int y, int floor) const;
+
+ private:
+  const DatasetGroundTruth* truth_;
+  std::unordered_map<int64_t, int> room_of_cell_;
+};
+MergeCheck checkMerge(const TrueRooms& rooms, const MergeSide& a, const MergeSide& b,
                       double min_distance_m = 1.0);
 
 /// What makes a dataset hard, measured on its files:
