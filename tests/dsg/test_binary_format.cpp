@@ -61,6 +61,14 @@ TEST(BinaryFormat, UpdateBytesSplitByCategory) {
   }
 }
 
+// A record's size is known without making it, on either side of each varint length boundary.
+TEST(BinaryFormat, RecordSizeWithoutTheRecord) {
+  for (const size_t n : {0, 1, 127, 128, 300, 16383, 16384, 70000, 2097152}) {
+    EXPECT_EQ(recordSize(n), encodeRecord(RecordKind::kRobotUpdate, std::string(n, 'x')).size())
+        << n;
+  }
+}
+
 // A stream is records back to back; the reader hands them out one at a time.
 TEST(BinaryFormat, StreamOfRecords) {
   std::mt19937 rng(23);

@@ -185,8 +185,7 @@ RobotUpdateBytes robotUpdateBytes(const RobotUpdate& update) {
   writeRobotUpdate(payload, update, &ends);
   const size_t size = payload.bytes().size();
   RobotUpdateBytes bytes;
-  bytes.header =
-      encodeRecord(RecordKind::kRobotUpdate, payload.bytes()).size() - size + ends.header;
+  bytes.header = recordSize(size) - size + ends.header;
   bytes.nodes_edges = ends.nodes_edges - ends.header;
   bytes.mesh = ends.mesh - ends.nodes_edges;
   bytes.pose_graph = ends.pose_graph - ends.mesh;

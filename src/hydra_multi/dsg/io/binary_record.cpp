@@ -23,6 +23,14 @@ std::string encodeRecord(RecordKind kind, const std::string& payload) {
   return record.release();
 }
 
+size_t recordSize(size_t payload_size) {
+  ByteWriter header;  // as encodeRecord's body, before the payload
+  header.u8(0);
+  header.u16(kBinaryVersion);
+  header.varint(payload_size);
+  return kMagic.size() + header.bytes().size() + payload_size + sizeof(uint32_t);
+}
+
 Result<std::optional<RecordView>> RecordReader::next() {
   broken_.reset();
   if (pos_ == bytes_.size()) return std::optional<RecordView>();

@@ -28,6 +28,8 @@ struct RecordView {
 
 /// A whole record (magic, header, payload, checksum) around a payload.
 std::string encodeRecord(RecordKind kind, const std::string& payload);
+/// The size of the record encodeRecord makes of a payload of this size, without making it.
+size_t recordSize(size_t payload_size);
 
 /// Reads the records of a file one at a time, so a stream of updates is never loaded whole into
 /// decoded form. next() returns nullopt at the end; a broken record is an error naming its offset
