@@ -6,6 +6,8 @@
 #include <optional>
 #include <set>
 
+#include "hydra_multi/core/best_accepted.h"
+
 namespace hydra_multi {
 namespace {
 
@@ -33,32 +35,6 @@ std::optional<NodeId> keyframeNearest(const SceneGraph& graph, RobotId robot, in
     }
   }
   return best;
-}
-
-// The keyframe of the highest score (ties: the lower index) among those `ranked` admits that
-// `accept` accepts. One pass when the best is accepted (the usual case), else a heap of the rest.
-template <typename Ranked, typename Accept>
-std::optional<size_t> bestAccepted(const std::vector<double>& score, Ranked ranked, Accept accept) {
-  std::optional<size_t> best;
-  for (size_t k = 0; k < score.size(); ++k) {
-    if ((!best || score[k] > score[*best]) && ranked(k)) best = k;
-  }
-  if (!best || accept(*best)) return best;
-  const auto worse = [](const std::pair<double, size_t>& a, const std::pair<double, size_t>& b) {
-    return a.first < b.first || (a.first == b.first && a.second > b.second);
-  };
-  std::vector<std::pair<double, size_t>> heap;
-  for (size_t k = 0; k < score.size(); ++k) {
-    if (k != *best && ranked(k)) heap.emplace_back(score[k], k);
-  }
-  std::make_heap(heap.begin(), heap.end(), worse);
-  while (!heap.empty()) {
-    std::pop_heap(heap.begin(), heap.end(), worse);
-    const size_t k = heap.back().second;
-    heap.pop_back();
-    if (accept(k)) return k;
-  }
-  return std::nullopt;
 }
 
 }  // namespace
