@@ -138,10 +138,16 @@ int runRun(const RunOptions& o) {
   }
 
   const fs::path out(o.out);
+  // After a team's mission these steps take a while (20 robots at scale 3: about a minute).
+  const auto step = [&o](const std::string& what) {
+    if (!o.quiet) std::cerr << "station: " << what << std::endl;
+  };
+  step("writing the graph, mesh and timing to " + o.out);
   if (Status s = writeStationOutputs(o.out, result); !s) return fail(s.message());
   // What the streams' updates weigh against full resends of each robot's map (bandwidth.h).
   RobotBandwidth sent;
   if (o.bandwidth) {
+    step("measuring the updates against full resends of each robot's map");
     BandwidthLedger ledger;
     for (const RobotUpdate& u : streams.value().updates) ledger.add(u);
     auto bandwidth = writeBandwidth(o.out, ledger);
@@ -150,6 +156,7 @@ int runRun(const RunOptions& o) {
   }
 
   // Evaluation, after the run: only now is the ground truth read.
+  step("evaluating against the ground truth");
   auto truth = readDatasetGroundTruth(o.dataset);
   if (!truth) return fail(truth.error());
   const SceneGraphScore score =
