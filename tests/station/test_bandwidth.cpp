@@ -35,6 +35,10 @@ TEST(Bandwidth, FullResendIsTheWholeMapAtEachUpdate) {
   }
   const std::vector<UpdateBandwidth> rows = ledger.rows();
   ASSERT_EQ(rows.size(), total);
+  // By robot, then sequence (the robots' maps are replayed side by side).
+  EXPECT_TRUE(std::is_sorted(rows.begin(), rows.end(), [](const auto& a, const auto& b) {
+    return a.robot != b.robot ? a.robot < b.robot : a.sequence < b.sequence;
+  }));
   for (size_t r = 0; r < tiny().streams.size(); ++r) {
     const std::vector<RobotUpdate>& stream = tiny().streams[r];
     RobotStreamState map;

@@ -1,8 +1,10 @@
 #include "hydra_multi/station/bandwidth.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <sstream>
+#include <thread>
 
 #include "hydra_multi/core/svg_chart.h"
 
@@ -12,35 +14,57 @@ void BandwidthLedger::add(const RobotUpdate& update, size_t wire_bytes) {
   updates_[update.robot].emplace_back(update, wire_bytes);
 }
 
-std::vector<UpdateBandwidth> BandwidthLedger::rows() const {
+std::vector<UpdateBandwidth> BandwidthLedger::robotRows(
+    RobotId robot, const std::vector<std::pair<RobotUpdate, size_t>>& arrived) const {
   std::vector<UpdateBandwidth> rows;
-  for (const auto& [robot, arrived] : updates_) {
-    std::vector<const std::pair<RobotUpdate, size_t>*> ordered;
-    for (const auto& entry : arrived) ordered.push_back(&entry);
-    std::stable_sort(ordered.begin(), ordered.end(), [](const auto* a, const auto* b) {
-      return a->first.sequence != b->first.sequence ? a->first.sequence < b->first.sequence
-                                                    : !a->first.is_snapshot && b->first.is_snapshot;
-    });
-    RobotStreamState map;
-    bool broken = false;  // an update the map could not take; until the next snapshot
-    for (const auto* entry : ordered) {
-      const RobotUpdate* u = &entry->first;
-      UpdateBandwidth row;
-      row.robot = robot;
-      row.sequence = u->sequence;
-      row.time_ns = u->time_ns;
-      row.snapshot = u->is_snapshot;
-      row.parts = io::robotUpdateBytes(*u);
-      row.record_bytes = row.parts.total() + framing_bytes_;
-      row.wire_bytes = entry->second > 0 ? entry->second : row.record_bytes;
-      if ((!broken || u->is_snapshot) && map.add(*u).ok()) {
-        broken = false;
-        row.full_resend_bytes = io::robotUpdateBytes(map.snapshot()).total() + framing_bytes_;
-      } else {
-        broken = true;
-      }
-      rows.push_back(std::move(row));
+  std::vector<const std::pair<RobotUpdate, size_t>*> ordered;
+  for (const auto& entry : arrived) ordered.push_back(&entry);
+  std::stable_sort(ordered.begin(), ordered.end(), [](const auto* a, const auto* b) {
+    return a->first.sequence != b->first.sequence ? a->first.sequence < b->first.sequence
+                                                  : !a->first.is_snapshot && b->first.is_snapshot;
+  });
+  RobotStreamState map;
+  bool broken = false;  // an update the map could not take; until the next snapshot
+  for (const auto* entry : ordered) {
+    const RobotUpdate* u = &entry->first;
+    UpdateBandwidth row;
+    row.robot = robot;
+    row.sequence = u->sequence;
+    row.time_ns = u->time_ns;
+    row.snapshot = u->is_snapshot;
+    row.parts = io::robotUpdateBytes(*u);
+    row.record_bytes = row.parts.total() + framing_bytes_;
+    row.wire_bytes = entry->second > 0 ? entry->second : row.record_bytes;
+    if ((!broken || u->is_snapshot) && map.add(*u).ok()) {
+      broken = false;
+      row.full_resend_bytes = io::robotUpdateBytes(map.snapshot()).total() + framing_bytes_;
+    } else {
+      broken = true;
     }
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+std::vector<UpdateBandwidth> BandwidthLedger::rows() const {
+  // Each robot's map is replayed on its own: the robots share the machine's cores.
+  std::vector<const std::pair<const RobotId, std::vector<std::pair<RobotUpdate, size_t>>>*> robots;
+  for (const auto& entry : updates_) robots.push_back(&entry);
+  std::vector<std::vector<UpdateBandwidth>> per_robot(robots.size());
+  std::atomic<size_t> next{0};
+  const auto work = [&] {
+    for (size_t i = next++; i < robots.size(); i = next++)
+      per_robot[i] = robotRows(robots[i]->first, robots[i]->second);
+  };
+  const size_t helpers =
+      std::min<size_t>(robots.size(), std::max(1u, std::thread::hardware_concurrency())) - 1;
+  std::vector<std::thread> threads;
+  for (size_t t = 0; t < helpers; ++t) threads.emplace_back(work);
+  if (!robots.empty()) work();
+  for (std::thread& t : threads) t.join();
+  std::vector<UpdateBandwidth> rows;
+  for (std::vector<UpdateBandwidth>& robot : per_robot) {
+    for (UpdateBandwidth& row : robot) rows.push_back(std::move(row));
   }
   return rows;
 }

@@ -48,6 +48,9 @@ class BandwidthLedger {
   std::vector<UpdateBandwidth> rows() const;
 
  private:
+  std::vector<UpdateBandwidth> robotRows(
+      RobotId robot, const std::vector<std::pair<RobotUpdate, size_t>>& arrived) const;
+
   size_t framing_bytes_;
   std::map<RobotId, std::vector<std::pair<RobotUpdate, size_t>>> updates_;
 };
