@@ -73,6 +73,8 @@ TEST(Bandwidth, FullResendIsTheWholeMapAtEachUpdate) {
   EXPECT_EQ(count(svg, "<polyline class=\"wire\""), 0u);  // nothing came compressed
 }
 
+TEST(Bandwidth, NoUpdatesNoRows) { EXPECT_TRUE(BandwidthLedger().rows().empty()); }
+
 // Update 3 of robot a never arrived: the map cannot take 4 and later, so they have no full-resend
 // figure until a snapshot; the bytes that came in compressed are the message's.
 TEST(Bandwidth, AGapLeavesUpdatesWithoutAFullResendFigure) {

@@ -56,11 +56,11 @@ std::vector<UpdateBandwidth> BandwidthLedger::rows() const {
     for (size_t i = next++; i < robots.size(); i = next++)
       per_robot[i] = robotRows(robots[i]->first, robots[i]->second);
   };
-  const size_t helpers =
-      std::min<size_t>(robots.size(), std::max(1u, std::thread::hardware_concurrency())) - 1;
+  const size_t workers =
+      std::min<size_t>(robots.size(), std::max(1u, std::thread::hardware_concurrency()));
   std::vector<std::thread> threads;
-  for (size_t t = 0; t < helpers; ++t) threads.emplace_back(work);
-  if (!robots.empty()) work();
+  for (size_t t = 1; t < workers; ++t) threads.emplace_back(work);
+  work();  // (returns at once without robots)
   for (std::thread& t : threads) t.join();
   std::vector<UpdateBandwidth> rows;
   for (std::vector<UpdateBandwidth>& robot : per_robot) {
