@@ -83,6 +83,14 @@ std::vector<PoseGraphEdge> trueClosures(const Robot& a, const Robot& b) {
   return closures;
 }
 
+// The deformation inputs of robots a (the global frame) and b, placed by T_global_b.
+std::vector<RobotDeformationInput> twoRobots(const Robot& a, const Robot& b,
+                                             const Eigen::Isometry3d& T_global_b) {
+  return {{a.id, Eigen::Isometry3d::Identity(), &a.pose_graph, &a.control_points,
+           &a.control_point_edges},
+          {b.id, T_global_b, &b.pose_graph, &b.control_points, &b.control_point_edges}};
+}
+
 TEST(DeformationGraph, LoopClosuresCorrectDriftAndOutliersAreRejected) {
   SceneGraph frontend;
   // Robot a's odometry is exact, robot b's turns 0.3 degrees too much at every keyframe: the
@@ -108,10 +116,7 @@ TEST(DeformationGraph, LoopClosuresCorrectDriftAndOutliersAreRejected) {
   }
   // The alignment is the truth of the starts (what initial alignment would estimate).
   const Eigen::Isometry3d T_global_b = a.truth.front().inverse() * b.truth.front();
-  std::vector<RobotDeformationInput> inputs = {
-      {a.id, Eigen::Isometry3d::Identity(), &a.pose_graph, &a.control_points,
-       &a.control_point_edges},
-      {b.id, T_global_b, &b.pose_graph, &b.control_points, &b.control_point_edges}};
+  const std::vector<RobotDeformationInput> inputs = twoRobots(a, b, T_global_b);
   // The edges here carry calibrated information (robot b's drift is in its odometry edges' noise
   // model only as far as their values go): use it rather than Kimera-PGMO's variances.
   DeformationGraphOptions options;
@@ -162,13 +167,7 @@ TEST(DeformationGraph, AWarmStartedRoundSolvesTheWholeGraphOnlyWhereItChanged) {
   for (const PoseGraphEdge& e : inter) {
     if (e.to.index() < kEarlier) inter_then.push_back(e);
   }
-  const auto inputs = [&](const Robot& robot_b) {
-    return std::vector<RobotDeformationInput>{
-        {a.id, Eigen::Isometry3d::Identity(), &a.pose_graph, &a.control_points,
-         &a.control_point_edges},
-        {b.id, T_global_b, &robot_b.pose_graph, &robot_b.control_points,
-         &robot_b.control_point_edges}};
-  };
+  const auto inputs = [&](const Robot& robot_b) { return twoRobots(a, robot_b, T_global_b); };
   DeformationGraphOptions options;
   const DeformationResult then = optimizeDeformationGraph(
       buildDeformationGraph(earlier, inputs(b_then), inter_then, {}, options), options);
@@ -202,10 +201,7 @@ TEST(DeformationGraph, ObjectsNewToTheSolveStartAtTheirKeyframe) {
   Robot b = drive(RobotId(1), M_PI, 0.005, frontend);
   const std::vector<PoseGraphEdge> inter = trueClosures(a, b);
   const Eigen::Isometry3d T_global_b = a.truth.front().inverse() * b.truth.front();
-  std::vector<RobotDeformationInput> inputs = {
-      {a.id, Eigen::Isometry3d::Identity(), &a.pose_graph, &a.control_points,
-       &a.control_point_edges},
-      {b.id, T_global_b, &b.pose_graph, &b.control_points, &b.control_point_edges}};
+  const std::vector<RobotDeformationInput> inputs = twoRobots(a, b, T_global_b);
   // One object per robot beside each of three places both pass; a merge candidate joins them.
   std::vector<PoseGraphEdge> merges;
   for (const size_t k : {9u, 21u, 45u}) {
