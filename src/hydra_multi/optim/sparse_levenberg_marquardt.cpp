@@ -9,6 +9,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "hydra_multi/optim/serial_openmp.h"
+
 namespace hydra_multi {
 namespace {
 
@@ -329,6 +331,7 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
                                           const std::vector<double>& weights,
                                           const LmOptions& options) {
   Impl& m = *impl_;
+  const SerialOpenMp serial;  // CHOLMOD's per-supernode loops, on this thread
   const auto start = std::chrono::steady_clock::now();
   LmSummary summary;
   const auto finish = [&](const std::string& why) {
