@@ -105,6 +105,18 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
     merged.insert(e.from);
     merged.insert(e.to);
   }
+  // At most: the robots' own edges, a place's (or merged object's) tie, a control point's ties,
+  // the frames' ties and the robust factors (large at team scale: no growth by copies).
+  size_t skeleton_most = inter_robot.size() + merges.size() + robots.size() + merged.size();
+  size_t control_most = 0;
+  for (const RobotDeformationInput& input : robots) {
+    if (input.pose_graph != nullptr) skeleton_most += input.pose_graph->size();
+    if (input.control_points != nullptr) control_most += input.control_points->size();
+    if (input.control_point_edges != nullptr) control_most += input.control_point_edges->size();
+    skeleton_most += frontend.nodesOfRobot(input.robot, Layer::kPlaces).size();
+  }
+  dg.graph.edges.reserve(skeleton_most + control_most);
+  dg.skeleton.edges.reserve(skeleton_most);
   for (const RobotDeformationInput& input : robots) {
     const Eigen::Isometry3d& T = input.T_global_robot;
     std::map<NodeId, Eigen::Isometry3d> local;  // keyframes in the robot's frame
@@ -314,7 +326,8 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
   // points start where the keyframe that observed them moved them.
   const auto whole_start = std::chrono::steady_clock::now();
   PoseGraph whole;
-  for (PoseGraphEdge e : graph.graph.edges) {
+  whole.edges.reserve(graph.graph.edges.size());
+  for (const PoseGraphEdge& e : graph.graph.edges) {
     if (e.kind == PoseGraphEdge::Kind::kLoopClosure) {
       const auto kept = result.robust_inlier.find({e.from, e.to});
       if (kept == result.robust_inlier.end() || !kept->second) continue;

@@ -115,6 +115,7 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
       if (conjugate_gradients) {
         // A problem over the inliers alone: the outliers' fill-in is what made GNC use CG.
         PoseGraph inliers;
+        inliers.edges.reserve(graph.edges.size());
         for (size_t k = 0; k < graph.edges.size(); ++k) {
           if (result.edge_inlier[k]) inliers.edges.push_back(graph.edges[k]);
         }
@@ -248,6 +249,7 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
   RobustPgoOptions reduced_options = options;
   reduced_options.held_out.clear();
   reduced_options.known_inlier.clear();
+  reduced.edges.reserve(kept_edges.size());
   for (const size_t k : kept_edges) {
     reduced.edges.push_back(graph.edges[k]);
     reduced_options.held_out.push_back(k < options.held_out.size() && options.held_out[k]);
