@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "hydra_multi/optim/serial_openmp.h"
+#include "hydra_multi/optim/suitesparse_blocks.h"
 
 namespace hydra_multi {
 namespace {
@@ -171,6 +172,7 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
       throw std::invalid_argument("SparseLevenbergMarquardt: a term has more than " +
                                   std::to_string(kMaxResiduals) + " residuals");
   }
+  keepSuiteSparseBlocks();  // the factor of the last problem, reused without page faults
   cholmod_l_start(&m.common);
   m.common.print = 0;
   m.common.error_handler = nullptr;
