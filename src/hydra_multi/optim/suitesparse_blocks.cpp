@@ -8,6 +8,7 @@
 #include <deque>
 #include <mutex>
 #include <unordered_map>
+#include <vector>
 
 namespace hydra_multi {
 namespace {
@@ -56,21 +57,17 @@ class BlockKeeper {
     if (block == nullptr) return;
     std::unique_lock<std::mutex> lock(mutex_);
     const auto live = live_.find(block);
-    if (live == live_.end()) {
-      lock.unlock();
-      std::free(block);  // small, or not ours
-      return;
-    }
-    const size_t capacity = live->second;
-    live_.erase(live);
-    if (capacity > kMaxKeptBytes) {
+    const size_t capacity = live == live_.end() ? 0 : live->second;
+    if (capacity == 0 || capacity > kMaxKeptBytes) {  // small, not ours, or too large to keep
+      if (capacity != 0) live_.erase(live);
       lock.unlock();
       std::free(block);
       return;
     }
+    live_.erase(live);
     kept_.push_back({block, capacity});
     kept_bytes_ += capacity;
-    std::deque<void*> evicted;
+    std::vector<void*> evicted;  // freed outside the lock
     while (kept_bytes_ > kMaxKeptBytes) {
       kept_bytes_ -= kept_.front().capacity;
       evicted.push_back(kept_.front().block);
@@ -88,16 +85,15 @@ class BlockKeeper {
       const auto live = live_.find(block);
       if (live != live_.end()) capacity = live->second;
     }
-    if (capacity == 0 && bytes < kMinKeptBlockBytes) return std::realloc(block, bytes);
-    if (capacity != 0 && bytes <= capacity && capacity / 2 <= bytes) return block;
     if (capacity == 0) {  // a small block of ours, or not ours: malloc knows its size
       void* grown = std::realloc(block, bytes);
-      if (grown != nullptr) {
+      if (grown != nullptr && bytes >= kMinKeptBlockBytes) {
         std::lock_guard<std::mutex> lock(mutex_);
         live_[grown] = bytes;
       }
       return grown;
     }
+    if (bytes <= capacity && capacity / 2 <= bytes) return block;
     void* moved = allocate(bytes, false);
     if (moved == nullptr) return nullptr;  // SuiteSparse keeps the old block
     std::memcpy(moved, block, capacity < bytes ? capacity : bytes);
