@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <optional>
 
 #include "hydra_multi/backend/backend.h"
 #include "hydra_multi/eval/dataset_evaluation.h"
@@ -217,6 +218,56 @@ TEST_F(TinyTeam, IncrementalRoundsAgreeWithRoundsFromScratch) {
   const double b = evaluateSceneGraph(batch.graph(), *truth_).ate_rmse_m.value();
   EXPECT_NEAR(a, b, 1e-3);
   EXPECT_LT(a, 0.3);
+}
+
+// A robot new or re-aligned since the last round starts afresh: the round takes none of the last
+// round's verdicts that touch it, and reports it. With a re-alignment threshold of 0, robot b is
+// re-aligned every round its estimate and its optimized start differ; with the default, once
+// aligned it keeps its alignment.
+TEST_F(TinyTeam, RobotsNewOrRealignedStartAfresh) {
+  const std::vector<RobotUpdate> updates = updatesInTimeOrder();
+  BackendOptions always = options();
+  always.alignment.realign_threshold_m = 0.0;
+  Backend realigning(always), keeping(options());
+  SceneGraphProcessor processor;
+  LoopClosureDetector detector;
+  size_t realigned_rounds = 0, kept_rounds = 0, afresh_total = 0;
+  std::vector<LoopClosureVerdict> last;
+  for (size_t i = 0; i < updates.size(); ++i) {
+    const UpdateReport update = processor.process(updates[i]);
+    detector.update(processor, update.new_keyframes);
+    if (i % 5 != 4) continue;
+    const std::vector<BackendRobot> team = teamOf(processor);
+    const std::vector<PoseGraphEdge> inter = interRobotEdges(detector.loopClosures());
+    const auto frameOfB = [&realigning]() -> std::optional<Eigen::Isometry3d> {
+      const auto it = realigning.aligned().find(RobotId(1));
+      if (it == realigning.aligned().end()) return std::nullopt;
+      return it->second.T_global_robot;
+    };
+    const std::optional<Eigen::Isometry3d> before = frameOfB();
+    const BackendRoundReport r = realigning.round(processor.graph(), team, inter, RobotId(0));
+    const std::optional<Eigen::Isometry3d> after = frameOfB();
+    if (before && after && !before->isApprox(*after, 1e-12)) {
+      ++realigned_rounds;
+      EXPECT_EQ(r.robots_afresh, 1u);
+      // Known: the own loop closures of robot a the last round decided, nothing of robot b's.
+      size_t own_a = 0;
+      for (const LoopClosureVerdict& v : last)
+        own_a += !v.inter_robot && v.from.sourceRobot() == RobotId(0) ? 1 : 0;
+      EXPECT_EQ(r.verdicts_known, own_a);
+    }
+    last = realigning.loopClosures();
+    const size_t aligned_before = keeping.aligned().size();
+    const BackendRoundReport k = keeping.round(processor.graph(), team, inter, RobotId(0));
+    afresh_total += k.robots_afresh;
+    if (aligned_before == k.robots_aligned) {
+      ++kept_rounds;
+      EXPECT_EQ(k.robots_afresh, 0u) << "round after update " << i;
+    }
+  }
+  EXPECT_GE(realigned_rounds, 2u);
+  EXPECT_GE(kept_rounds, 2u);
+  EXPECT_EQ(afresh_total, 2u);  // each robot once, when it was first aligned
 }
 
 // A round from scratch takes nothing from the last one: online rounds run at other times (every 3

@@ -141,15 +141,20 @@ std::set<std::pair<NodeId, NodeId>> Backend::alignmentOutliers() const {
   return held_out;
 }
 
-DeformationWarmStart Backend::lastRound(const DeformationGraph& graph, const Team& team, bool poses,
-                                        std::map<NodeId, Eigen::Isometry3d>* last_proposal) const {
-  DeformationWarmStart warm;
-  if (!incremental()) return warm;
-  std::set<RobotId> kept;  // robots aligned as they were
+std::set<RobotId> Backend::alignedAsBefore(const Team& team) const {
+  std::set<RobotId> kept;
   for (const auto& [robot, T] : team.T_global_robot) {
     const auto last = last_alignment_.find(robot);
     if (last != last_alignment_.end() && sameTransform(last->second, T)) kept.insert(robot);
   }
+  return kept;
+}
+
+DeformationWarmStart Backend::lastRound(const DeformationGraph& graph, const Team& team, bool poses,
+                                        std::map<NodeId, Eigen::Isometry3d>* last_proposal) const {
+  DeformationWarmStart warm;
+  if (!incremental()) return warm;
+  const std::set<RobotId> kept = alignedAsBefore(team);
   const auto ofKept = [&kept](NodeId id) {
     const auto robot = id.sourceRobot();
     return robot && kept.count(*robot) != 0;
@@ -255,6 +260,8 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
 
   // 2. Reconciliation proposals on the loop closures' solve, as merge factors.
   const Team team = alignedTeam(robots);
+  if (incremental())
+    report.robots_afresh = team.T_global_robot.size() - alignedAsBefore(team).size();
   const bool joint = options_.joint_optimization;
   const std::vector<PoseGraphEdge> loop_closures =
       joint ? inter_robot : std::vector<PoseGraphEdge>();

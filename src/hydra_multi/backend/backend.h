@@ -77,6 +77,9 @@ struct BackendOptions {
 
 struct BackendRoundReport {
   size_t robots = 0, robots_aligned = 0;
+  /// Incremental rounds: aligned robots new or re-aligned since the last round, which start from
+  /// their aligned frontend poses and have their inter-robot loop closures decided again.
+  size_t robots_afresh = 0;
   size_t inter_robot_loop_closures = 0, inter_robot_inliers = 0;
   size_t merges_proposed = 0, merges_accepted = 0, merges_undone = 0;
   /// Objects merged by the label votes (reconciliation.h), not counted in merges_accepted.
@@ -154,6 +157,8 @@ class Backend {
              const std::vector<PoseGraphEdge>& inter_robot, RobotId root,
              const std::vector<double>& support);
   Team alignedTeam(const std::vector<BackendRobot>& robots) const;
+  /// The robots of `team` aligned as in the last round.
+  std::set<RobotId> alignedAsBefore(const Team& team) const;
   /// Inter-robot loop closures the alignment's consensus rejected: held out of GNC.
   std::set<std::pair<NodeId, NodeId>> alignmentOutliers() const;
   /// Where the last round left the robots aligned as they were (BackendOptions::incremental):

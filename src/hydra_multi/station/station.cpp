@@ -181,7 +181,10 @@ void Station::Impl::runRound(const Snapshot& s) {
   const BackendRoundReport& r = timing.report;
   log("backend round " + std::to_string(timing.round) + " after update " +
       std::to_string(s.after_update) + ": " + std::to_string(r.robots_aligned) + "/" +
-      std::to_string(r.robots) + " robots aligned, " + std::to_string(r.inter_robot_inliers) + "/" +
+      std::to_string(r.robots) + " robots aligned" +
+      (r.robots_afresh > 0 ? " (" + std::to_string(r.robots_afresh) + " new or re-aligned)"
+                           : std::string()) +
+      ", " + std::to_string(r.inter_robot_inliers) + "/" +
       std::to_string(r.inter_robot_loop_closures) + " inter-robot loop closures kept, " +
       std::to_string(r.merges_accepted) + "/" + std::to_string(r.merges_proposed) + " merges, " +
       (r.label_merges > 0 ? std::to_string(r.label_merges) + " by label votes, " : std::string()) +
