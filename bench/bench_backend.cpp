@@ -2,10 +2,9 @@
 // without a backend, then backend rounds on the final state, with the time of every stage
 // (alignment, graph assembly, GNC, the whole-graph solve, the backend graph, rooms), the robots
 // new or re-aligned since the last round (afresh), the size of the deformation graph, the robust
-// factors taken as decided from the last round and those
-// decided again, and the pose-graph solves. With --every K, a round also runs after every K
-// updates, as an online station whose backend keeps up would run them. Build in Release (`make
-// bench-backend`).
+// factors taken as decided from the last round and those decided again, and the pose-graph
+// solves. With --every K, a round also runs after every K updates, as an online station whose
+// backend keeps up would run them. Build in Release (`make bench-backend`).
 //
 // With --from-scratch, the rounds on the final state take nothing from earlier rounds (as the
 // station's last round). With --compare-full, a second backend that solves the whole deformation
