@@ -1,7 +1,7 @@
 // The time order: whatever order robots' updates arrive in, they leave in robot time (then robot,
 // then sequence), as the file replay orders them; a robot that has nothing held holds the others
 // back until it has, finishes, or the hold runs out; the team is complete only once the expected
-// robots have been heard of.
+// robots have been heard of; what comes after later updates went on is counted late.
 
 #include <gtest/gtest.h>
 
@@ -64,6 +64,25 @@ TEST(TimeOrder, NoneWaitsLongerThanTheHold) {
   order.add(at(1, 1, 9), t0 + 4s);
   EXPECT_EQ(ids(order.release(t0 + 4s, true)),
             (std::vector<std::pair<uint8_t, uint64_t>>{{1, 1}}));  // everything, at the end
+}
+
+TEST(TimeOrder, AnUpdateAfterLaterOnesWentOnIsLate) {
+  const Clock::time_point t0 = Clock::now();
+  TimeOrder order(2s, 2);
+  order.add(at(0, 0, 1), t0);
+  order.add(at(1, 0, 2), t0);
+  order.add(at(0, 1, 5), t0);
+  // a0, b0 in time; a1 (5 s) waits for b until the hold runs out.
+  EXPECT_EQ(ids(order.release(t0)), (std::vector<std::pair<uint8_t, uint64_t>>{{0, 0}, {1, 0}}));
+  EXPECT_EQ(ids(order.release(t0 + 2s)), (std::vector<std::pair<uint8_t, uint64_t>>{{0, 1}}));
+  EXPECT_TRUE(order.late().empty());
+  // b1 (4 s) comes after a1 (5 s) went on: late; b2 (6 s) is in time again.
+  order.add(at(1, 1, 4), t0 + 3s);
+  order.add(at(1, 2, 6), t0 + 3s);
+  order.finish(RobotId(0));
+  EXPECT_EQ(ids(order.release(t0 + 3s)),
+            (std::vector<std::pair<uint8_t, uint64_t>>{{1, 1}, {1, 2}}));
+  EXPECT_EQ(order.late(), (std::map<RobotId, size_t>{{RobotId(1), 1}}));
 }
 
 }  // namespace

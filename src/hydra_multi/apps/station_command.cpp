@@ -333,6 +333,8 @@ int runStationCommand(const StationCommandOptions& o) {
       hydra_refused += c.refused;
     }
   }
+  size_t late = 0;
+  for (const auto& [robot, n] : result.late) late += n;
   const nlohmann::ordered_json summary = {{"endpoint", endpoint},
                                           {"robots", result.robots},
                                           {"robots_aligned", result.aligned.size()},
@@ -344,6 +346,7 @@ int runStationCommand(const StationCommandOptions& o) {
                                           {"updates_behind_gap", result.counts.behindGap()},
                                           {"snapshots_requested", counts.snapshots_requested},
                                           {"updates_superseded", result.counts.superseded},
+                                          {"updates_late", late},
                                           {"bytes_received", counts.bytes + hydra_bytes},
                                           {"update_bytes", team.wire_bytes},
                                           {"update_record_bytes", team.record_bytes},
@@ -369,6 +372,10 @@ int runStationCommand(const StationCommandOptions& o) {
       << std::fixed << std::setprecision(2) << "station on " << endpoint << ": " << result.robots
       << " robots, " << result.rounds.size() << " backend rounds, " << result.wall_s << " s\n"
       << "  updates               " << describeUpdates(result.counts, 0) << "\n"
+      << (late > 0 ? "  time order            " + std::to_string(late) +
+                         " updates late (after updates of later robot time), the map may differ "
+                         "from run's\n"
+                   : std::string())
       << "  messages              " << counts.bytes << " bytes, " << duplicates
       << " updates resent and held already, " << refused << " refused\n"
       << (hydra ? "  Hydra robots          " + std::to_string(hydra_graphs) + " graphs, " +

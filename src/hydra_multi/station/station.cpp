@@ -7,6 +7,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <thread>
 
 #include "hydra_multi/station/frontend_digest.h"
@@ -98,13 +99,25 @@ struct Station::Impl {
       time_order.emplace(std::chrono::duration_cast<Clock::duration>(
                              std::chrono::duration<double>(options.time_order_hold_s)),
                          options.expected_robots);
+    std::ostringstream hold;
+    hold << options.time_order_hold_s;
+    hold_text = hold.str();
   }
-  // Moves what the time order releases onto the queue (under queue_mutex).
+  // Moves what the time order releases onto the queue (under queue_mutex); says a robot's first
+  // late update (time_order.h).
   void releaseOrdered(bool everything = false) {
     if (!time_order) return;
     const Clock::time_point now = Clock::now();
-    for (RobotUpdate& u : time_order->release(now, everything))
+    for (RobotUpdate& u : time_order->release(now, everything)) {
+      const auto late = time_order->late().find(u.robot);
+      if (late != time_order->late().end() && late->second > 0 && said_late.insert(u.robot).second)
+        log("station: robot " + u.robot.str() + "'s update " + std::to_string(u.sequence) +
+            " came after updates of later robot time had gone on without it (the order's hold, " +
+            hold_text +
+            " s, ran out): from here the map may differ from run's; a longer --order-hold waits "
+            "longer for a silent robot");
       queue.emplace_back(std::move(u), now);
+    }
   }
 
   void log(const std::string& line) {
@@ -132,6 +145,8 @@ struct Station::Impl {
   std::condition_variable queue_wake;
   std::deque<std::pair<RobotUpdate, Clock::time_point>> queue;
   std::optional<TimeOrder> time_order;  // with options.time_order_hold_s: before the queue
+  std::set<RobotId> said_late;          // robots whose late updates the log has said
+  std::string hold_text;
   bool input_closed = false;
   std::map<RobotId, size_t> skipped;  // damaged records per robot, as inputs report them
 
@@ -369,6 +384,7 @@ StationResult Station::finish() {
   result.merges = s.backend.merges();
   result.aligned = s.backend.aligned();
   result.counts = s.processor.counts();
+  if (s.time_order) result.late = s.time_order->late();
   result.global_robot = s.global.value_or(s.team_first);
   for (const NodeId id : s.processor.graph().nodesInLayer(Layer::kAgents)) {
     if (const auto* agent = s.processor.graph().getNode(id).find<AgentAttributes>())

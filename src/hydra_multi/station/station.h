@@ -93,6 +93,9 @@ struct StationResult {
   uint64_t frontend_digest = 0;               ///< of the robots' maps the frontend holds at the end
   std::map<RobotId, RobotFrameAlignment> aligned;
   UpdateCounts counts;
+  /// With the time order: per robot, the updates that went on after one later in robot time (its
+  /// hold ran out without them); the map may then differ from the replay's.
+  std::map<RobotId, size_t> late;
   /// The robot whose frame `graph` is in: robot a's, unless the station had nothing of it when
   /// the map began (then the first robot it had data of, until a is aligned with it).
   RobotId global_robot;

@@ -33,6 +33,10 @@ std::vector<RobotUpdate> TimeOrder::release(Clock::time_point now, bool everythi
     auto first = held_.begin();
     if (!everything && !releasable(first->first, now)) break;
     --held_per_robot_[first->second.update.robot];
+    if (latest_ && first->first < *latest_)
+      ++late_[first->second.update.robot];
+    else
+      latest_ = first->first;
     out.push_back(std::move(first->second.update));
     held_.erase(first);
   }

@@ -5,8 +5,10 @@
 // other robot of the team has a later one held or has finished its mission; none waits longer than
 // `hold` (while one has, it and every update before it in time go on: a silent robot delays the
 // others by at most that). Until `expected_robots` have
-// sent something, the team is not complete and only `hold` releases. Not thread-safe: the
-// station calls it under its ingest lock.
+// sent something, the team is not complete and only `hold` releases. An update released after
+// one later in robot time has gone on (its robot was silent longer than `hold`) is counted late:
+// there the order is not the replay's. Not thread-safe: the station calls it
+// under its ingest lock.
 
 #include <chrono>
 #include <cstddef>
@@ -36,6 +38,8 @@ class TimeOrder {
   /// update that arrived first running out (none when nothing is held).
   std::optional<Clock::time_point> deadline() const;
   size_t held() const { return held_.size(); }
+  /// Updates released after one later in robot time had gone on, per robot.
+  const std::map<RobotId, size_t>& late() const { return late_; }
 
  private:
   using Key = std::tuple<int64_t, RobotId, uint64_t>;  // time, robot, sequence
@@ -50,6 +54,8 @@ class TimeOrder {
   std::multimap<Key, Held> held_;
   std::map<RobotId, size_t> held_per_robot_;
   std::set<RobotId> known_, finished_;
+  std::optional<Key> latest_;  ///< the latest in robot time released so far
+  std::map<RobotId, size_t> late_;
 };
 
 }  // namespace hydra_multi
