@@ -171,6 +171,49 @@ TEST(InitialAlignment, ReplacesAWrongEarlyAlignment) {
       0.1);
 }
 
+// Look-alike loop closures come to outnumber the right ones: the estimate puts robot b 15 m off,
+// the robot is re-aligned to it, and the optimization, started there, puts b's start back where
+// it was. That estimate is refuted: b is not re-aligned to it again while the optimized start
+// is there; once the optimized start moves, it is tried again. Without decline_refuted it is
+// taken every round.
+TEST(InitialAlignment, DeclinesAnEstimateTheOptimizationRefuted) {
+  const Team t = team(2);
+  const RobotId a(0), b(1);
+  const Eigen::Isometry3d right = t.T_global_robot.at(a).inverse() * t.T_global_robot.at(b);
+  std::vector<PoseGraphEdge> edges = closures(t, a, b, 10, 0, 10);
+  InitialAlignmentOptions plain;
+  plain.decline_refuted = false;
+  InitialAlignment alignment, every_time(plain);
+  alignment.update(t.frontend, edges, a);
+  every_time.update(t.frontend, edges, a);
+  const auto look_alikes = shiftedClosures(t, a, b, 30, 11);
+  edges.insert(edges.end(), look_alikes.begin(), look_alikes.end());
+  const auto startOf = [b](const InitialAlignment& x) {
+    return Eigen::Vector3d(x.aligned().at(b).T_global_robot.translation());
+  };
+  for (int round = 0; round < 3; ++round) {
+    alignment.update(t.frontend, edges, a, {{b, right}});
+    every_time.update(t.frontend, edges, a, {{b, right}});
+    EXPECT_GT((startOf(alignment) - right.translation()).norm(), 10.0);  // the estimate's frame
+  }
+  EXPECT_EQ(alignment.realignments(), 1u);
+  EXPECT_EQ(alignment.realignmentsDeclined(), 2u);
+  EXPECT_EQ(every_time.realignments(), 3u);
+  EXPECT_EQ(every_time.realignmentsDeclined(), 0u);
+  // The optimized start moved by 3 m (within 10 m of the estimate's still): tried again.
+  Eigen::Isometry3d moved = right;
+  moved.translation().y() += 3.0;
+  alignment.update(t.frontend, edges, a, {{b, moved}});
+  EXPECT_EQ(alignment.realignments(), 2u);
+  EXPECT_EQ(alignment.realignmentsDeclined(), 2u);
+  // A round where the optimized start agrees with the estimate keeps the refutation: back where
+  // it was refuted, the estimate is declined again.
+  alignment.update(t.frontend, edges, a, {{b, alignment.aligned().at(b).T_global_robot}});
+  alignment.update(t.frontend, edges, a, {{b, moved}});
+  EXPECT_EQ(alignment.realignments(), 2u);
+  EXPECT_EQ(alignment.realignmentsDeclined(), 3u);
+}
+
 // Support per loop closure: 6 right ones, two of them distinctive, against 10 look-alikes that
 // agree on a wrong frame. Weighed, the right frame wins; by count (weigh_support off), the wrong.
 TEST(InitialAlignment, WeighsLoopClosuresBySupport) {

@@ -14,7 +14,7 @@ TEST(StationConfig, KeysSetOptions) {
       "loop_closures": {"object_ambiguity_ratio": 0, "object_rival_distance": 2.5,
                         "anchor_objects": false},
       "alignment": {"min_inliers": 7, "sigma_translation_m": 0.25, "realign_threshold_m": 4,
-                    "weigh_support": false},
+                    "decline_refuted": false, "refuted_within_m": 2.5, "weigh_support": false},
       "deformation": {"two_stage": false, "final_iterations": 0, "mesh_variance": 0.001,
                       "gnc_mu_step": 2.0, "link_max_dt_s": 0, "odometry_rotation_variance": 0.01},
       "reconciliation": {"enabled": false, "place_max_distance": 0.6, "label_votes": true,
@@ -30,6 +30,8 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_DOUBLE_EQ(options.backend.alignment.alignment.averaging.information(0, 0), 16.0);
   EXPECT_DOUBLE_EQ(options.backend.alignment.alignment.averaging.information(3, 3), 400.0);
   EXPECT_DOUBLE_EQ(options.backend.alignment.realign_threshold_m, 4.0);
+  EXPECT_FALSE(options.backend.alignment.decline_refuted);
+  EXPECT_DOUBLE_EQ(options.backend.alignment.refuted_within_m, 2.5);
   EXPECT_FALSE(options.backend.alignment.weigh_support);
   EXPECT_FALSE(options.backend.deformation.two_stage);
   EXPECT_EQ(options.backend.deformation.final_iterations, 0);

@@ -51,6 +51,10 @@ const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
     for (auto& [robot, alignment] : aligned_)
       alignment.T_global_robot = T_new_old * alignment.T_global_robot;
     for (auto& [robot, T] : optimized) T = T_new_old * T;
+    for (auto& [robot, tried] : tried_) {
+      tried.estimate = T_new_old * tried.estimate;
+      tried.optimized = T_new_old * tried.optimized;
+    }
     root_ = preferred_root;
     ++root_changes_;
   }
@@ -59,26 +63,39 @@ const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
   for (size_t k = 0; k < edges.size(); ++k)
     edge_inliers_[{edges[k].from, edges[k].to}] = result.edge_inlier[k];
 
+  // Keep an alignment unless this round's estimate (from every loop closure so far) puts the
+  // robot's start far from where the optimized result has it. (Comparing the kept alignment
+  // instead would never catch a wrong early one: the optimization starts from it and stays there,
+  // GNC rejecting the loop closures that contradict it.)
+  std::vector<bool> realign(robots.size(), false);
+  for (size_t i = 0; i < robots.size(); ++i) {
+    const RobotId robot = robots[i];
+    auto known = aligned_.find(robot);
+    if (!result.T_world_robot[i] || known == aligned_.end() || options_.always_realign) continue;
+    ++known->second.rounds_aligned;
+    const auto optimized_first = optimized.find(robot);
+    const auto first = first_keyframe.find(robot);
+    if (optimized_first == optimized.end() || first == first_keyframe.end()) continue;
+    const Eigen::Vector3d by_estimate =
+        (*result.T_world_robot[i] * poses[first->second.second]).translation();
+    const double apart = (by_estimate - optimized_first->second.translation()).norm();
+    if (apart <= options_.realign_threshold_m) continue;
+    const auto tried = tried_.find(robot);
+    if (options_.decline_refuted && tried != tried_.end() &&
+        (tried->second.optimized - optimized_first->second.translation()).norm() <=
+            options_.refuted_within_m &&
+        (tried->second.estimate - by_estimate).norm() <= options_.realign_threshold_m) {
+      ++declined_;
+      continue;
+    }
+    ++realignments_;
+    tried_[robot] = {by_estimate, optimized_first->second.translation()};
+    realign[i] = true;
+  }
   for (size_t i = 0; i < robots.size(); ++i) {
     const RobotId robot = robots[i];
     if (!result.T_world_robot[i]) continue;
-    auto known = aligned_.find(robot);
-    if (known != aligned_.end() && !options_.always_realign) {
-      // Keep an alignment unless this round's estimate (from every loop closure so far) puts
-      // the robot's start far from where the optimized result has it. (Comparing the kept
-      // alignment instead would never catch a wrong early one: the optimization starts from it
-      // and stays there, GNC rejecting the loop closures that contradict it.)
-      ++known->second.rounds_aligned;
-      const auto optimized_first = optimized.find(robot);
-      const auto first = first_keyframe.find(robot);
-      if (optimized_first == optimized.end() || first == first_keyframe.end()) continue;
-      const Eigen::Vector3d by_estimate =
-          (*result.T_world_robot[i] * poses[first->second.second]).translation();
-      if ((by_estimate - optimized_first->second.translation()).norm() <=
-          options_.realign_threshold_m)
-        continue;
-      ++realignments_;
-    }
+    if (aligned_.count(robot) && !options_.always_realign && !realign[i]) continue;
     RobotFrameAlignment& alignment = aligned_[robot];
     alignment.T_global_robot = *result.T_world_robot[i];
     for (const RobotPairAlignment& pair : result.pairs) {

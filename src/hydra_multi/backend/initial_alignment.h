@@ -14,8 +14,8 @@
 // Online, a robot once aligned keeps its alignment: it is replaced only when this round's
 // estimate, from every loop closure so far, disagrees with the backend's optimized result by more
 // than realign_threshold_m (the pose of the robot's first keyframe after optimization against the
-// one the estimate gives). A robot not aligned yet stays in its own frame and takes no part in
-// merging.
+// one the estimate gives), and the optimization has not refuted about that estimate already
+// (decline_refuted). A robot not aligned yet stays in its own frame and takes no part in merging.
 //
 // The global frame is the root's: the robot the caller prefers (the station: robot a, or the
 // lowest robot it has data of). It stays where it was first put; when a lower robot is preferred
@@ -43,6 +43,11 @@ struct InitialAlignmentOptions {
     return options;
   }();
   double realign_threshold_m = 10.0;
+  /// An estimate refuted: the optimization, started from it, put the robot's start back within
+  /// refuted_within_m of where it had it before the re-alignment. While the optimized start is
+  /// there, the robot is not re-aligned to an estimate within realign_threshold_m of that one.
+  bool decline_refuted = true;
+  double refuted_within_m = 1.0;
   /// Weigh each loop closure in its pair's consensus by the support the caller gives (the
   /// station: how distinctive its match is, frontend/loop_closure_detector.h); false: by count,
   /// as the paper.
@@ -81,6 +86,8 @@ class InitialAlignment {
   /// Per pair, the last round's averaging: loop closures and inliers.
   const std::vector<RobotPairAlignment>& pairs() const { return pairs_; }
   size_t realignments() const { return realignments_; }
+  /// Re-alignments not made: the estimate was one the optimization had refuted (decline_refuted).
+  size_t realignmentsDeclined() const { return declined_; }
   /// Times the global frame moved to a preferred root that joined late.
   size_t rootChanges() const { return root_changes_; }
   /// Per inter-robot loop closure (from, to) of the last round: an inlier of its pair's average.
@@ -92,6 +99,12 @@ class InitialAlignment {
   std::map<RobotId, RobotFrameAlignment> aligned_;
   std::vector<RobotPairAlignment> pairs_;
   size_t realignments_ = 0;
+  size_t declined_ = 0;
+  /// Per robot re-aligned, its start by the estimate it took and as optimized before.
+  struct Tried {
+    Eigen::Vector3d estimate, optimized;
+  };
+  std::map<RobotId, Tried> tried_;
   size_t root_changes_ = 0;
   std::map<std::pair<NodeId, NodeId>, bool> edge_inliers_;
 };
