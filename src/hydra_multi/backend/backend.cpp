@@ -65,10 +65,12 @@ bool sameTransform(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
 void Backend::rememberForNextRound(const SceneGraph& frontend, const DeformationGraph& graph,
                                    const DeformationResult& result,
                                    const std::map<NodeId, Eigen::Isometry3d>& proposal_poses,
+                                   const std::map<NodeId, Eigen::Isometry3d>& held_out_poses,
                                    const std::map<RobotId, Eigen::Isometry3d>& T_global_robot) {
   corrections_.clear();
   skeleton_corrections_.clear();
   proposal_corrections_.clear();
+  held_out_corrections_.clear();
   latest_corrections_.clear();
   last_verdicts_.clear();
   last_alignment_ = T_global_robot;
@@ -86,6 +88,11 @@ void Backend::rememberForNextRound(const SceneGraph& frontend, const Deformation
     const auto initial = graph.skeleton.poses.find(id);
     if (initial != graph.skeleton.poses.end())
       proposal_corrections_[id] = pose * initial->second.inverse();
+  }
+  for (const auto& [id, pose] : held_out_poses) {
+    const auto initial = graph.skeleton.poses.find(id);
+    if (initial != graph.skeleton.poses.end())
+      held_out_corrections_[id] = pose * initial->second.inverse();
   }
   for (const auto& [robot, T] : T_global_robot) {
     int64_t latest = std::numeric_limits<int64_t>::min();
@@ -151,7 +158,8 @@ std::set<RobotId> Backend::alignedAsBefore(const Team& team) const {
 }
 
 DeformationWarmStart Backend::lastRound(const DeformationGraph& graph, const Team& team, bool poses,
-                                        std::map<NodeId, Eigen::Isometry3d>* last_proposal) const {
+                                        std::map<NodeId, Eigen::Isometry3d>* last_proposal,
+                                        std::map<NodeId, Eigen::Isometry3d>* last_held_out) const {
   DeformationWarmStart warm;
   if (!incremental()) return warm;
   const std::set<RobotId> kept = alignedAsBefore(team);
@@ -183,6 +191,9 @@ DeformationWarmStart Backend::lastRound(const DeformationGraph& graph, const Tea
     if (const auto proposal = proposal_corrections_.find(id);
         last_proposal != nullptr && proposal != proposal_corrections_.end())
       (*last_proposal)[id] = proposal->second * initial;
+    if (const auto held = held_out_corrections_.find(id);
+        last_held_out != nullptr && held != held_out_corrections_.end())
+      (*last_held_out)[id] = held->second * initial;
   }
   return warm;
 }
@@ -195,13 +206,19 @@ Backend::Proposals Backend::proposeOnLoopClosureSolve(
       buildDeformationGraph(frontend, team.inputs, loop_closures, {}, options_.deformation);
   DeformationGraphOptions skeleton = options_.deformation;
   skeleton.final_iterations = 0;
-  std::map<NodeId, Eigen::Isometry3d> last_proposal;
-  DeformationWarmStart warm = lastRound(graph, team, true, &last_proposal);
-  for (const auto& [id, pose] : last_proposal) warm.poses[id] = pose;  // this solve's own optimum
+  std::map<NodeId, Eigen::Isometry3d> last_proposal, last_held_out;
+  DeformationWarmStart warm = lastRound(graph, team, true, &last_proposal, &last_held_out);
+  // This solve's own optimum; GNC and the first polish from the one without what it re-admitted,
+  // the solve after the re-admission moved as it moved then.
+  for (const auto& [id, pose] : last_proposal) warm.poses[id] = pose;
+  for (const auto& [id, pose] : last_held_out) warm.poses[id] = pose;
+  warm.held_out = std::move(last_held_out);
+  warm.readmitted = std::move(last_proposal);
   report.verdicts_known = warm.verdicts.size();
   const DeformationResult solved = optimizeDeformationGraph(graph, skeleton, held_out, &warm);
   report.verdicts_redecided += solved.solve.known_contradicted;
   report.solves += solved.solve.solves;
+  proposals.held_out = solved.solve.held_out_poses;
   proposals.solved.poses = solved.poses;
   proposals.solved.verdicts = solved.robust_inlier;
   const SolvedNodes nodes =
@@ -321,7 +338,8 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   report.whole_graph_free = result.whole_graph_free;
   report.gnc_s = lap() - result.whole_graph_s;
   recordVerdicts(team, inter_robot, result, report);
-  rememberForNextRound(frontend, graph, result, proposal_poses, team.T_global_robot);
+  rememberForNextRound(frontend, graph, result, proposal_poses, proposals.held_out,
+                       team.T_global_robot);
 
   // 4. The backend graph, and the merges GNC kept.
   SceneGraph map = optimizedMap(frontend, team.inputs, graph, result.poses, options_.deformation,

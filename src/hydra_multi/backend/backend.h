@@ -151,6 +151,8 @@ class Backend {
   struct Proposals {
     std::vector<MergeCandidate> candidates;
     DeformationWarmStart solved;  ///< the loop closures' solve, for the solve with merges
+    /// That solve's solution before it re-admitted loop closures (empty: it re-admitted none).
+    std::map<NodeId, Eigen::Isometry3d> held_out;
   };
 
   void align(const SceneGraph& frontend, const std::vector<BackendRobot>& robots,
@@ -164,10 +166,12 @@ class Backend {
   /// Where the last round left the robots aligned as they were (BackendOptions::incremental):
   /// its verdicts on robust factors, and with `poses` the poses of `graph`'s skeleton, those of
   /// its last two solves (DeformationWarmStart::last_whole, last_skeleton) and, into
-  /// `last_proposal`, those of its loop closures' solve.
+  /// `last_proposal`, those of its loop closures' solve (into `last_held_out`, those of that
+  /// solve before its re-admission).
   DeformationWarmStart lastRound(
       const DeformationGraph& graph, const Team& team, bool poses = true,
-      std::map<NodeId, Eigen::Isometry3d>* last_proposal = nullptr) const;
+      std::map<NodeId, Eigen::Isometry3d>* last_proposal = nullptr,
+      std::map<NodeId, Eigen::Isometry3d>* last_held_out = nullptr) const;
   bool incremental() const { return options_.incremental && !from_scratch_; }
   /// The deformation graph without merges solved (its skeleton), and the merge candidates
   /// proposed and checked on that solution.
@@ -180,6 +184,7 @@ class Backend {
   void rememberForNextRound(const SceneGraph& frontend, const DeformationGraph& graph,
                             const DeformationResult& result,
                             const std::map<NodeId, Eigen::Isometry3d>& proposal_poses,
+                            const std::map<NodeId, Eigen::Isometry3d>& held_out_poses,
                             const std::map<RobotId, Eigen::Isometry3d>& T_global_robot);
 
   BackendOptions options_;
@@ -197,7 +202,7 @@ class Backend {
   // robot, that of its latest keyframe, and its alignment; the loop closures' verdicts.
   std::map<NodeId, Eigen::Isometry3d> corrections_;
   std::map<NodeId, Eigen::Isometry3d> skeleton_corrections_;
-  std::map<NodeId, Eigen::Isometry3d> proposal_corrections_;
+  std::map<NodeId, Eigen::Isometry3d> proposal_corrections_, held_out_corrections_;
   std::map<RobotId, Eigen::Isometry3d> latest_corrections_;
   std::map<RobotId, Eigen::Isometry3d> last_alignment_;
   std::map<std::pair<NodeId, NodeId>, bool> last_verdicts_;

@@ -264,6 +264,10 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
   const PoseGraph& robust = options.two_stage ? graph.skeleton : graph.graph;
   RobustPgoOptions solver = options.solver;
   solver.held_out.assign(robust.edges.size(), false);
+  if (warm != nullptr) {
+    solver.earlier_held_out = warm->held_out;
+    solver.earlier_readmitted = warm->readmitted;
+  }
   solver.known_inlier.assign(robust.edges.size(), false);
   for (size_t k = 0; k < robust.edges.size(); ++k) {
     const PoseGraphEdge& e = robust.edges[k];

@@ -120,11 +120,13 @@ struct DeformationResult {
 /// skeleton. The robust solve starts a node `poses` lacks where the earlier whole solution had
 /// it; the whole-graph solve starts a node there moved as the skeleton moved since
 /// (S_now S_then^-1 W_then; a control point by its keyframe), so a round that changed little
-/// starts at the earlier optimum.
+/// starts at the earlier optimum. `held_out` and `readmitted`: an earlier robust solve's solution
+/// without the factors it re-admitted and its final one (RobustPgoOptions::earlier_held_out).
 struct DeformationWarmStart {
   std::map<NodeId, Eigen::Isometry3d> poses;
   std::map<std::pair<NodeId, NodeId>, bool> verdicts;
   std::map<NodeId, Eigen::Isometry3d> last_whole, last_skeleton;
+  std::map<NodeId, Eigen::Isometry3d> held_out, readmitted;
 };
 
 /// `held_out`: robust factors (from, to) GNC starts without, taken back only if they fit its

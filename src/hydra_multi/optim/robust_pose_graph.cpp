@@ -111,6 +111,18 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
     for (int round = 0; round < 10; ++round) {
       const size_t inlier_edges =
           std::count(result.edge_inlier.begin(), result.edge_inlier.end(), true);
+      if (round > 0 && !options.earlier_held_out.empty()) {
+        // After a re-admission: from the held-out solution moved as the earlier solve's
+        // re-admission moved its own, H_now H_then^-1 F_then.
+        for (auto& [id, pose] : result.poses) {
+          const auto now = result.held_out_poses.find(id);
+          const auto then = options.earlier_held_out.find(id);
+          const auto readmitted = options.earlier_readmitted.find(id);
+          if (now != result.held_out_poses.end() && then != options.earlier_held_out.end() &&
+              readmitted != options.earlier_readmitted.end())
+            pose = now->second * then->second.inverse() * readmitted->second;
+        }
+      }
       SolveSummary summary;
       if (conjugate_gradients) {
         // A problem over the inliers alone: the outliers' fill-in is what made GNC use CG.
@@ -168,6 +180,7 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
                          " rejected loop closures fit it again");
       }
       if (readmitted == 0) break;
+      if (round == 0) result.held_out_poses = result.poses;  // re-admission leaves them
     }
   };
 

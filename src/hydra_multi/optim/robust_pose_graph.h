@@ -52,6 +52,11 @@ struct RobustPgoOptions {
   /// (RobustPgoResult::known_contradicted counts them). With every robust factor known or held out,
   /// GNC has nothing to decide and the result is the polish and re-admission alone.
   std::vector<bool> known_inlier;
+  /// An earlier solve of about the same problem (RobustPgoResult::held_out_poses and poses): each
+  /// solve after a re-admission starts from this one's held-out solution H moved as the earlier
+  /// re-admissions moved it, H_now H_then^-1 F_then (nodes in all three), not from the last
+  /// solution.
+  std::map<NodeId, Eigen::Isometry3d> earlier_held_out, earlier_readmitted;
   /// Poses held where `initial` puts them, as the anchor: a local solve of the others.
   std::set<NodeId> constant;
   /// Called after every solve with a one-line report (for progress output on long runs).
@@ -63,7 +68,10 @@ struct RobustPgoResult {
   std::vector<bool> edge_inlier;    ///< per graph edge: odometry true, loop closures by GNC
   std::vector<double> edge_weight;  ///< final GNC weight per edge (1 for odometry)
   GncResult gnc;                    ///< empty when not robust
-  int solver_iterations = 0;        ///< Levenberg-Marquardt iterations over all solves
+  /// The solution of the first polish (rejected and held-out factors at weight 0) when loop
+  /// closures that fit it were re-admitted after it; empty otherwise.
+  std::map<NodeId, Eigen::Isometry3d> held_out_poses;
+  int solver_iterations = 0;  ///< Levenberg-Marquardt iterations over all solves
   int solves = 0;
   size_t known_contradicted = 0;  ///< known inliers GNC had to decide again (known_inlier)
   double final_cost = 0.0;        ///< Ceres cost of the last solve (weighted)
