@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <functional>
 #include <random>
 #include <regex>
 #include <set>
@@ -56,6 +57,21 @@ Classification classifyGrid(const std::string& name) {
   return classify(g, optimizePoseGraph(g.graph, odometryInitialization(g.graph, anchor), anchor));
 }
 
+// Options that take `batch`'s verdicts: known inliers, the rejected held out, and so are the loop
+// closures `doubt` names.
+RobustPgoOptions asDecided(const LabelledGraph& g, const RobustPgoResult& batch,
+                           const std::function<bool(size_t)>& doubt = nullptr) {
+  RobustPgoOptions options;
+  options.known_inlier.assign(g.graph.edges.size(), false);
+  options.held_out.assign(g.graph.edges.size(), false);
+  for (size_t k = 0; k < g.graph.edges.size(); ++k) {
+    if (g.graph.edges[k].kind != PoseGraphEdge::Kind::kLoopClosure) continue;
+    const bool held = (doubt && doubt(k)) || !batch.edge_inlier[k];
+    (held ? options.held_out : options.known_inlier)[k] = true;
+  }
+  return options;
+}
+
 // A solve that takes an earlier solve's verdicts (known inliers, the rejected held out) and starts
 // from its poses decides the same without GNC's schedule; known inliers that are wrong (true
 // outliers given as inliers) are contradicted by the result and rejected.
@@ -64,14 +80,8 @@ TEST(RobustPoseGraph, KnownVerdictsAreKeptUnlessTheResultContradictsThem) {
   const NodeId anchor(0, 0);
   const RobustPgoResult batch =
       optimizePoseGraph(g.graph, odometryInitialization(g.graph, anchor), anchor);
-  RobustPgoOptions warm;
-  warm.known_inlier.assign(g.graph.edges.size(), false);
-  warm.held_out.assign(g.graph.edges.size(), false);
+  RobustPgoOptions warm = asDecided(g, batch);
   size_t wrong_given = 0;
-  for (size_t k = 0; k < g.graph.edges.size(); ++k) {
-    if (g.graph.edges[k].kind != PoseGraphEdge::Kind::kLoopClosure) continue;
-    (batch.edge_inlier[k] ? warm.known_inlier : warm.held_out)[k] = true;
-  }
   const RobustPgoResult again = optimizePoseGraph(g.graph, batch.poses, anchor, warm);
   EXPECT_EQ(again.edge_inlier, batch.edge_inlier);
   EXPECT_EQ(again.known_contradicted, 0u);
@@ -102,16 +112,10 @@ TEST(RobustPoseGraph, ReadmissionStartsWhereTheEarlierOneEnded) {
   const NodeId anchor(0, 0);
   const RobustPgoResult batch =
       optimizePoseGraph(g.graph, odometryInitialization(g.graph, anchor), anchor);
-  RobustPgoOptions options;
-  options.known_inlier.assign(g.graph.edges.size(), false);
-  options.held_out.assign(g.graph.edges.size(), false);
+  // Every third true inlier held out (doubted), the rest as the batch decided them.
   size_t held = 0;
-  for (size_t k = 0; k < g.graph.edges.size(); ++k) {
-    if (g.graph.edges[k].kind != PoseGraphEdge::Kind::kLoopClosure) continue;
-    // Every third true inlier held out (doubted), the rest as the batch decided them.
-    const bool doubt = g.inliers.count(k) && held++ % 3 == 0;
-    (doubt || !batch.edge_inlier[k] ? options.held_out : options.known_inlier)[k] = true;
-  }
+  const RobustPgoOptions options =
+      asDecided(g, batch, [&](size_t k) { return g.inliers.count(k) && held++ % 3 == 0; });
   const RobustPgoResult first = optimizePoseGraph(g.graph, batch.poses, anchor, options);
   ASSERT_FALSE(first.held_out_poses.empty());  // they fit, and were re-admitted
 
