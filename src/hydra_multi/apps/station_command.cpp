@@ -53,8 +53,15 @@ int runStationCommand(const StationCommandOptions& o) {
   const auto config = canonicalStationConfig(o.config);
   if (!config) return fail(config.error());
   const io::spark::Version spark_version = *io::spark::Version::parse(o.spark_version);
-  const auto log = [&o](const std::string& line) {
-    if (!o.quiet) std::cerr << line << std::endl;
+  // Whole lines on stderr, whichever thread says them: the journal's replay runs backend rounds
+  // whose lines would otherwise split this thread's.
+  std::mutex stderr_mutex;
+  const auto say = [&stderr_mutex](const std::string& line) {
+    std::lock_guard<std::mutex> lock(stderr_mutex);
+    std::cerr << line + "\n" << std::flush;
+  };
+  const auto log = [&o, &say](const std::string& line) {
+    if (!o.quiet) say(line);
   };
   options.log = log;
   if (o.order == "time") {
@@ -67,9 +74,9 @@ int runStationCommand(const StationCommandOptions& o) {
     if (!created) return fail("--publish " + created.error());
     publisher = std::move(created).value();
     std::ofstream(fs::path(o.out) / "publish") << publisher->endpoint() << "\n";
-    std::cerr << "station: publishing the fused graph: snapshots on " << publisher->endpoint()
-              << ", deltas on " << publisher->publishEndpoint() << " (hydra-multi watch --connect "
-              << publisher->endpoint() << ")" << std::endl;
+    say("station: publishing the fused graph: snapshots on " + publisher->endpoint() +
+        ", deltas on " + publisher->publishEndpoint() + " (hydra-multi watch --connect " +
+        publisher->endpoint() + ")");
   }
   // The viewer: its history always (`view OUT`), live with --http; the robots' links from the
   // server once it exists (and not after it is gone).
@@ -95,7 +102,7 @@ int runStationCommand(const StationCommandOptions& o) {
   const std::unique_ptr<RunViewer> viewer = std::move(opened).value();
   if (!viewer->url().empty()) {
     std::ofstream(fs::path(o.out) / "http") << viewer->url() << "\n";
-    std::cerr << "station: the live viewer is at " << viewer->url() << std::endl;
+    say("station: the live viewer is at " + viewer->url());
   }
   std::unique_ptr<net::SparkPublisher> spark;
   if (!o.spark_publish.empty()) {
@@ -103,8 +110,8 @@ int runStationCommand(const StationCommandOptions& o) {
     if (!created) return fail(created.error());
     spark = std::move(created).value();
     std::ofstream(fs::path(o.out) / "spark_publish") << spark->endpoint() << "\n";
-    std::cerr << "station: publishing the fused graph in Spark-DSG's wire form on "
-              << spark->endpoint() << (o.spark_no_mesh ? " (without the mesh)" : "") << std::endl;
+    say("station: publishing the fused graph in Spark-DSG's wire form on " + spark->endpoint() +
+        (o.spark_no_mesh ? " (without the mesh)" : ""));
   }
   options.on_round = [p = publisher.get(), v = viewer.get(),
                       s = spark.get()](const RoundOutput& out) {
@@ -201,17 +208,16 @@ int runStationCommand(const StationCommandOptions& o) {
   if (!done) return fail(done.error());
   for (const auto& [robot, epoch] : done.value()) {
     server.value()->holdDone(robot, epoch);
-    std::cerr << "station: robot " << robot.str() << " said BYE before the restart" << std::endl;
+    say("station: robot " + robot.str() + " said BYE before the restart");
   }
   if (replayed + unreadable > 0)
-    std::cerr << "station: resumed from " << journal_path << ": " << replayed << " updates replayed"
-              << (unreadable ? ", " + std::to_string(unreadable) + " left out" : "") << std::endl;
+    say("station: resumed from " + journal_path + ": " + std::to_string(replayed) +
+        " updates replayed" + (unreadable ? ", " + std::to_string(unreadable) + " left out" : ""));
   if (hydra) {
     for (const auto& [robot, next] : hydra_next) hydra->resumeAt(robot, next);
     hydra->start();
     for (const net::HydraRobotSource& r : hydra_options.robots)
-      std::cerr << "station: Hydra robot " << r.robot.str() << ": subscribed to " << r.endpoint
-                << std::endl;
+      say("station: Hydra robot " + r.robot.str() + ": subscribed to " + r.endpoint);
   }
   {
     std::lock_guard<std::mutex> lock(links_mutex);
@@ -223,15 +229,12 @@ int runStationCommand(const StationCommandOptions& o) {
   std::string admitted;
   for (const auto& [key, robot] : server_options.robot_keys)
     admitted += (admitted.empty() ? "" : ", ") + robot.str();
-  std::cerr << "station: listening on " << endpoint
-            << (o.keys.empty()
-                    ? " (NO AUTHENTICATION: any peer that reaches it can speak for any robot; "
-                      "give --keys and --key)"
-                    : " (CURVE: robots " + admitted + " of " + o.keys + ")")
-            << (o.expect_robots > 0
-                    ? ", until " + std::to_string(o.expect_robots) + " robots have said BYE"
-                    : std::string(", until SIGINT or SIGTERM"))
-            << std::endl;
+  say("station: listening on " + endpoint +
+      (o.keys.empty() ? " (NO AUTHENTICATION: any peer that reaches it can speak for any robot; "
+                        "give --keys and --key)"
+                      : " (CURVE: robots " + admitted + " of " + o.keys + ")") +
+      (o.expect_robots > 0 ? ", until " + std::to_string(o.expect_robots) + " robots have said BYE"
+                           : std::string(", until SIGINT or SIGTERM")));
 
   // The ingest queue, memory and CPU once a second, to tell whether the station keeps up.
   auto load =
