@@ -60,6 +60,19 @@ bool sameTransform(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
   return (a.matrix() - b.matrix()).cwiseAbs().maxCoeff() < 1e-9;
 }
 
+// Per node of `initial` that `poses` holds, the motion from one to the other: pose * initial^-1.
+std::map<NodeId, Eigen::Isometry3d> correctionsOf(
+    const std::map<NodeId, Eigen::Isometry3d>& poses,
+    const std::map<NodeId, Eigen::Isometry3d>& initial) {
+  std::map<NodeId, Eigen::Isometry3d> corrections;
+  for (const auto& [id, pose] : poses) {
+    const auto it = initial.find(id);
+    if (it != initial.end())
+      corrections.emplace_hint(corrections.end(), id, pose * it->second.inverse());
+  }
+  return corrections;
+}
+
 }  // namespace
 
 void Backend::rememberForNextRound(const SceneGraph& frontend, const DeformationGraph& graph,
@@ -75,25 +88,10 @@ void Backend::rememberForNextRound(const SceneGraph& frontend, const Deformation
   last_verdicts_.clear();
   last_alignment_ = T_global_robot;
   if (!options_.incremental) return;
-  for (const auto& [id, pose] : result.poses) {
-    const auto initial = graph.initial.find(id);
-    if (initial != graph.initial.end()) corrections_[id] = pose * initial->second.inverse();
-  }
-  for (const auto& [id, pose] : result.solve.poses) {
-    const auto initial = graph.initial.find(id);
-    if (initial != graph.initial.end())
-      skeleton_corrections_[id] = pose * initial->second.inverse();
-  }
-  for (const auto& [id, pose] : proposal_poses) {
-    const auto initial = graph.skeleton.poses.find(id);
-    if (initial != graph.skeleton.poses.end())
-      proposal_corrections_[id] = pose * initial->second.inverse();
-  }
-  for (const auto& [id, pose] : held_out_poses) {
-    const auto initial = graph.skeleton.poses.find(id);
-    if (initial != graph.skeleton.poses.end())
-      held_out_corrections_[id] = pose * initial->second.inverse();
-  }
+  corrections_ = correctionsOf(result.poses, graph.initial);
+  skeleton_corrections_ = correctionsOf(result.solve.poses, graph.initial);
+  proposal_corrections_ = correctionsOf(proposal_poses, graph.skeleton.poses);
+  held_out_corrections_ = correctionsOf(held_out_poses, graph.skeleton.poses);
   for (const auto& [robot, T] : T_global_robot) {
     int64_t latest = std::numeric_limits<int64_t>::min();
     for (const NodeId id : frontend.nodesOfRobot(robot)) {

@@ -67,35 +67,29 @@ const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
   // robot's start far from where the optimized result has it. (Comparing the kept alignment
   // instead would never catch a wrong early one: the optimization starts from it and stays there,
   // GNC rejecting the loop closures that contradict it.)
-  std::vector<bool> realign(robots.size(), false);
-  for (size_t i = 0; i < robots.size(); ++i) {
-    const RobotId robot = robots[i];
-    auto known = aligned_.find(robot);
-    if (!result.T_world_robot[i] || known == aligned_.end() || options_.always_realign) continue;
-    ++known->second.rounds_aligned;
-    const auto optimized_first = optimized.find(robot);
-    const auto first = first_keyframe.find(robot);
-    if (optimized_first == optimized.end() || first == first_keyframe.end()) continue;
-    const Eigen::Vector3d by_estimate =
-        (*result.T_world_robot[i] * poses[first->second.second]).translation();
-    const double apart = (by_estimate - optimized_first->second.translation()).norm();
-    if (apart <= options_.realign_threshold_m) continue;
-    const auto tried = tried_.find(robot);
-    if (options_.decline_refuted && tried != tried_.end() &&
-        (tried->second.optimized - optimized_first->second.translation()).norm() <=
-            options_.refuted_within_m &&
-        (tried->second.estimate - by_estimate).norm() <= options_.realign_threshold_m) {
-      ++declined_;
-      continue;
-    }
-    ++realignments_;
-    tried_[robot] = {by_estimate, optimized_first->second.translation()};
-    realign[i] = true;
-  }
   for (size_t i = 0; i < robots.size(); ++i) {
     const RobotId robot = robots[i];
     if (!result.T_world_robot[i]) continue;
-    if (aligned_.count(robot) && !options_.always_realign && !realign[i]) continue;
+    auto known = aligned_.find(robot);
+    if (known != aligned_.end() && !options_.always_realign) {
+      ++known->second.rounds_aligned;
+      const auto optimized_first = optimized.find(robot);
+      const auto first = first_keyframe.find(robot);
+      if (optimized_first == optimized.end() || first == first_keyframe.end()) continue;
+      const Eigen::Vector3d by_estimate =
+          (*result.T_world_robot[i] * poses[first->second.second]).translation();
+      const Eigen::Vector3d by_map = optimized_first->second.translation();
+      if ((by_estimate - by_map).norm() <= options_.realign_threshold_m) continue;
+      const auto tried = tried_.find(robot);
+      if (options_.decline_refuted && tried != tried_.end() &&
+          (tried->second.optimized - by_map).norm() <= options_.refuted_within_m &&
+          (tried->second.estimate - by_estimate).norm() <= options_.realign_threshold_m) {
+        ++declined_;
+        continue;
+      }
+      ++realignments_;
+      tried_[robot] = {by_estimate, by_map};
+    }
     RobotFrameAlignment& alignment = aligned_[robot];
     alignment.T_global_robot = *result.T_world_robot[i];
     for (const RobotPairAlignment& pair : result.pairs) {
