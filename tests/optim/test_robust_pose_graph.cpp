@@ -137,6 +137,35 @@ TEST(RobustPoseGraph, ReadmissionStartsWhereTheEarlierOneEnded) {
   EXPECT_LT(apart, 0.01);
 }
 
+// An earlier solve that fits this one's inliers worse than the solution a re-admission adds to
+// (here its poses 0.5 m off at random) is not where the next solve starts.
+TEST(RobustPoseGraph, ReadmissionKeepsItsOwnSolutionWhereTheEarlierOneFitsWorse) {
+  const LabelledGraph g = readLabelledGrid("grid1000_10p_outliers");
+  const NodeId anchor(0, 0);
+  const RobustPgoResult batch =
+      optimizePoseGraph(g.graph, odometryInitialization(g.graph, anchor), anchor);
+  size_t held = 0;
+  const RobustPgoOptions options =
+      asDecided(g, batch, [&](size_t k) { return g.inliers.count(k) && held++ % 3 == 0; });
+  const RobustPgoResult first = optimizePoseGraph(g.graph, batch.poses, anchor, options);
+  ASSERT_FALSE(first.held_out_poses.empty());
+
+  std::map<NodeId, Eigen::Isometry3d> start = first.poses;
+  for (const auto& [id, pose] : first.held_out_poses) start[id] = pose;
+  const RobustPgoResult plain = optimizePoseGraph(g.graph, start, anchor, options);
+  RobustPgoOptions earlier = options;
+  earlier.earlier_held_out = first.held_out_poses;
+  earlier.earlier_readmitted = first.poses;
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.5);
+  for (auto& [id, pose] : earlier.earlier_readmitted)
+    pose.translation() += Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+  const RobustPgoResult again = optimizePoseGraph(g.graph, start, anchor, earlier);
+  EXPECT_EQ(again.edge_inlier, plain.edge_inlier);
+  EXPECT_NEAR(again.final_cost, plain.final_cost, 1e-6 * plain.final_cost);
+  EXPECT_EQ(again.solver_iterations, plain.solver_iterations);
+}
+
 // Poses with one known-inlier edge (a place tied to its keyframe) are solved after the rest: the
 // others come out as without them, each leaf where its edge puts it, the leaf edges inliers.
 TEST(RobustPoseGraph, LeavesAreSolvedAfterTheRest) {

@@ -107,14 +107,22 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
   // back rejected loop closures that fit it, and repeat until none does. With sparse Cholesky
   // throughout, the solves reuse GNC's problem (the same optimum: a factor at weight 0 is none).
   const double c2 = options.gnc.thresholdSq();
+  const auto inlierCost = [&](const std::map<NodeId, Eigen::Isometry3d>& poses) {
+    const std::vector<double> r2 = problem.setPoses(poses).squaredResiduals();
+    double cost = 0.0;
+    for (size_t k = 0; k < r2.size(); ++k) cost += result.edge_inlier[k] ? r2[k] : 0.0;
+    return cost;
+  };
   const auto polish = [&] {
     for (int round = 0; round < 10; ++round) {
       const size_t inlier_edges =
           std::count(result.edge_inlier.begin(), result.edge_inlier.end(), true);
       if (round > 0 && !options.earlier_held_out.empty()) {
         // After a re-admission: from the held-out solution moved as the earlier solve's
-        // re-admission moved its own, H_now H_then^-1 F_then.
-        for (auto& [id, pose] : result.poses) {
+        // re-admission moved its own, H_now H_then^-1 F_then, when that fits the inliers better
+        // than the solution the re-admission adds to.
+        std::map<NodeId, Eigen::Isometry3d> moved = result.poses;
+        for (auto& [id, pose] : moved) {
           const auto now = result.held_out_poses.find(id);
           const auto then = options.earlier_held_out.find(id);
           const auto readmitted = options.earlier_readmitted.find(id);
@@ -122,6 +130,7 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
               readmitted != options.earlier_readmitted.end())
             pose = now->second * then->second.inverse() * readmitted->second;
         }
+        if (inlierCost(moved) < inlierCost(result.poses)) result.poses = std::move(moved);
       }
       SolveSummary summary;
       if (conjugate_gradients) {

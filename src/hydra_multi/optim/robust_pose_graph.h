@@ -54,8 +54,8 @@ struct RobustPgoOptions {
   std::vector<bool> known_inlier;
   /// An earlier solve of about the same problem (RobustPgoResult::held_out_poses and poses): each
   /// solve after a re-admission starts from this one's held-out solution H moved as the earlier
-  /// re-admissions moved it, H_now H_then^-1 F_then (nodes in all three), not from the last
-  /// solution.
+  /// re-admissions moved it, H_now H_then^-1 F_then (nodes in all three), when that fits the
+  /// inliers better than the solution before the re-admission (else from that solution).
   std::map<NodeId, Eigen::Isometry3d> earlier_held_out, earlier_readmitted;
   /// Poses held where `initial` puts them, as the anchor: a local solve of the others.
   std::set<NodeId> constant;
