@@ -1,7 +1,9 @@
 #include "hydra_multi/backend/backend.h"
 
+#include <algorithm>
 #include <chrono>
 #include <limits>
+#include <optional>
 #include <set>
 
 #include "hydra_multi/core/nearest_neighbors.h"
@@ -85,6 +87,8 @@ void Backend::rememberForNextRound(const SceneGraph& frontend, const Deformation
   proposal_corrections_.clear();
   held_out_corrections_.clear();
   latest_corrections_.clear();
+  latest_proposal_corrections_.clear();
+  latest_held_out_corrections_.clear();
   last_verdicts_.clear();
   last_alignment_ = T_global_robot;
   if (!options_.incremental) return;
@@ -92,17 +96,30 @@ void Backend::rememberForNextRound(const SceneGraph& frontend, const Deformation
   skeleton_corrections_ = correctionsOf(result.solve.poses, graph.initial);
   proposal_corrections_ = correctionsOf(proposal_poses, graph.skeleton.poses);
   held_out_corrections_ = correctionsOf(held_out_poses, graph.skeleton.poses);
+  // Each robot's keyframes, latest first: a node new next round moves as the latest one did.
+  std::map<RobotId, std::vector<std::pair<int64_t, NodeId>>> keyframes;
   for (const auto& [robot, T] : T_global_robot) {
-    int64_t latest = std::numeric_limits<int64_t>::min();
     for (const NodeId id : frontend.nodesOfRobot(robot)) {
-      const AgentAttributes* agent = frontend.getNode(id).find<AgentAttributes>();
-      const auto correction = corrections_.find(id);
-      if (agent == nullptr || correction == corrections_.end() || agent->timestamp_ns < latest)
-        continue;
-      latest = agent->timestamp_ns;
-      latest_corrections_[robot] = correction->second;
+      if (const AgentAttributes* agent = frontend.getNode(id).find<AgentAttributes>())
+        keyframes[robot].emplace_back(agent->timestamp_ns, id);
     }
   }
+  const auto latestOf = [&keyframes](const std::map<NodeId, Eigen::Isometry3d>& corrections) {
+    std::map<RobotId, Eigen::Isometry3d> latest;
+    for (auto& [robot, stamped] : keyframes) {
+      const auto newest = std::max_element(
+          stamped.begin(), stamped.end(), [&corrections](const auto& a, const auto& b) {
+            return std::make_pair(corrections.count(a.second) != 0, a.first) <
+                   std::make_pair(corrections.count(b.second) != 0, b.first);
+          });
+      if (newest != stamped.end() && corrections.count(newest->second))
+        latest[robot] = corrections.at(newest->second);
+    }
+    return latest;
+  };
+  latest_corrections_ = latestOf(corrections_);
+  latest_proposal_corrections_ = latestOf(proposal_corrections_);
+  latest_held_out_corrections_ = latestOf(held_out_corrections_);
   last_verdicts_ = result.robust_inlier;
 }
 
@@ -165,15 +182,25 @@ DeformationWarmStart Backend::lastRound(const DeformationGraph& graph, const Tea
     const auto robot = id.sourceRobot();
     return robot && kept.count(*robot) != 0;
   };
+  // A node's own correction, else (a node new since) that of its robot's latest keyframe.
+  const auto moved = [](const std::map<NodeId, Eigen::Isometry3d>& own,
+                        const std::map<RobotId, Eigen::Isometry3d>& latest, NodeId id,
+                        const Eigen::Isometry3d& initial) -> std::optional<Eigen::Isometry3d> {
+    if (const auto it = own.find(id); it != own.end()) return it->second * initial;
+    if (const auto it = latest.find(*id.sourceRobot()); it != latest.end())
+      return it->second * initial;
+    return std::nullopt;
+  };
   for (const auto& [id, initial] : graph.skeleton.poses) {
     if (!poses || !ofKept(id)) continue;
-    const auto own = corrections_.find(id);
-    if (own != corrections_.end()) {
-      warm.poses[id] = own->second * initial;
-    } else if (const auto latest = latest_corrections_.find(*id.sourceRobot());
-               latest != latest_corrections_.end()) {
-      warm.poses[id] = latest->second * initial;
-    }
+    if (const auto pose = moved(corrections_, latest_corrections_, id, initial))
+      warm.poses[id] = *pose;
+    if (last_proposal == nullptr) continue;
+    if (const auto pose = moved(proposal_corrections_, latest_proposal_corrections_, id, initial))
+      (*last_proposal)[id] = *pose;
+    if (const auto pose = moved(held_out_corrections_, latest_held_out_corrections_, id, initial);
+        pose && last_held_out != nullptr)
+      (*last_held_out)[id] = *pose;
   }
   for (const auto& [edge, inlier] : last_verdicts_) {
     if (ofKept(edge.first) && ofKept(edge.second)) warm.verdicts[edge] = inlier;
@@ -186,12 +213,6 @@ DeformationWarmStart Backend::lastRound(const DeformationGraph& graph, const Tea
     if (const auto skeleton = skeleton_corrections_.find(id);
         skeleton != skeleton_corrections_.end())
       warm.last_skeleton[id] = skeleton->second * initial;
-    if (const auto proposal = proposal_corrections_.find(id);
-        last_proposal != nullptr && proposal != proposal_corrections_.end())
-      (*last_proposal)[id] = proposal->second * initial;
-    if (const auto held = held_out_corrections_.find(id);
-        last_held_out != nullptr && held != held_out_corrections_.end())
-      (*last_held_out)[id] = held->second * initial;
   }
   return warm;
 }

@@ -167,7 +167,8 @@ class Backend {
   /// its verdicts on robust factors, and with `poses` the poses of `graph`'s skeleton, those of
   /// its last two solves (DeformationWarmStart::last_whole, last_skeleton) and, into
   /// `last_proposal`, those of its loop closures' solve (into `last_held_out`, those of that
-  /// solve before its re-admission).
+  /// solve before its re-admission). A skeleton node new since then moves in these as its
+  /// robot's latest keyframe moved.
   DeformationWarmStart lastRound(
       const DeformationGraph& graph, const Team& team, bool poses = true,
       std::map<NodeId, Eigen::Isometry3d>* last_proposal = nullptr,
@@ -198,12 +199,14 @@ class Backend {
   bool from_scratch_ = false;  // this round's
   // For the next round (BackendOptions::incremental): per node of the deformation graph, the
   // motion (optimized * initial^-1, global frame) the last round's whole-graph solve gave it, and
-  // per skeleton node those of GNC's solve with merges and of the loop closures' solve; per
-  // robot, that of its latest keyframe, and its alignment; the loop closures' verdicts.
+  // per skeleton node those of GNC's solve with merges and of the loop closures' solve (with and
+  // without what it re-admitted); per robot, those of its latest keyframe, and its alignment; the
+  // loop closures' verdicts.
   std::map<NodeId, Eigen::Isometry3d> corrections_;
   std::map<NodeId, Eigen::Isometry3d> skeleton_corrections_;
   std::map<NodeId, Eigen::Isometry3d> proposal_corrections_, held_out_corrections_;
-  std::map<RobotId, Eigen::Isometry3d> latest_corrections_;
+  std::map<RobotId, Eigen::Isometry3d> latest_corrections_, latest_proposal_corrections_,
+      latest_held_out_corrections_;
   std::map<RobotId, Eigen::Isometry3d> last_alignment_;
   std::map<std::pair<NodeId, NodeId>, bool> last_verdicts_;
   mutable IcpCache icp_cache_;  // ICP's verdicts on object pairs, for incremental rounds
