@@ -9,7 +9,10 @@
 // With --from-scratch, the rounds on the final state take nothing from earlier rounds (as the
 // station's last round). With --compare-full, a second backend that solves the whole deformation
 // graph every round (DeformationGraphOptions::local_whole_graph off) runs the same rounds, and each
-// round prints how far the two backend graphs' nodes are apart (median, max).
+// round prints how far the two backend graphs' nodes are apart (median, max). Where the dataset
+// has its ground truth, each round also counts the inter-robot loop closures it kept that the
+// truth calls wrong (lc_wrong) and the merges it kept that join two true rooms (merges_x);
+// evaluation only, as `run` scores them.
 //
 //   bench_backend DATASET_DIR [--rounds N] [--every K] [--config FILE] [--verbose]
 //                 [--from-scratch] [--compare-full]
@@ -19,8 +22,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <string>
 
+#include "hydra_multi/eval/dataset_evaluation.h"
+#include "hydra_multi/eval/dataset_ground_truth.h"
 #include "hydra_multi/station/station.h"
 #include "hydra_multi/station/station_config.h"
 
@@ -65,6 +71,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "error: %s\n", streams.error().c_str());
     return 1;
   }
+  std::optional<DatasetGroundTruth> truth;
+  if (auto read = readDatasetGroundTruth(argv[1])) truth = std::move(read.value());
+  std::optional<TrueRooms> true_rooms;
+  if (truth) true_rooms.emplace(*truth);
   const RobotId root =
       *std::min_element(streams.value().robots.begin(), streams.value().robots.end());
   SceneGraphProcessor processor;
@@ -84,6 +94,31 @@ int main(int argc, char** argv) {
     }
     const std::vector<PoseGraphEdge> inter = interRobotEdges(detector.loopClosures());
     const BackendRoundReport r = backend.round(processor.graph(), robots, inter, root, {}, scratch);
+    // Kept inter-robot loop closures the truth calls wrong (-1: no truth).
+    long wrong = truth ? 0 : -1;
+    const auto stamp = [&processor](NodeId keyframe) -> int64_t {
+      const Node* node = processor.graph().findNode(keyframe);
+      const AgentAttributes* agent = node ? node->find<AgentAttributes>() : nullptr;
+      return agent ? agent->timestamp_ns : -1;
+    };
+    for (const DetectedLoopClosure& c : detector.loopClosures()) {
+      const auto kept = backend.loopClosureInliers().find({c.keyframe_a, c.keyframe_b});
+      if (!truth || !c.interRobot() || kept == backend.loopClosureInliers().end() || !kept->second)
+        continue;
+      wrong += !checkLoopClosure(*truth, c.robot_a, stamp(c.keyframe_a), c.robot_b,
+                                 stamp(c.keyframe_b), c.T_a_b)
+                    .correct;
+    }
+    // Merges that join two true rooms (-1: no truth).
+    long across = truth ? 0 : -1;
+    const auto sideOf = [](const AcceptedMerge::Side& s) {
+      return MergeSide{s.robot, s.position, s.keyframe_stamp_ns, s.T_robot_keyframe};
+    };
+    for (const AcceptedMerge& m : backend.merges()) {
+      if (true_rooms)
+        across +=
+            checkMerge(*true_rooms, sideOf(m.target_side), sideOf(m.source_side)).across_rooms;
+    }
     std::string apart;
     if (compare_full) {
       full.round(processor.graph(), robots, inter, root, {}, scratch);
@@ -100,17 +135,18 @@ int main(int argc, char** argv) {
     }
     std::printf(
         "%7s  %3zu/%-3zu  %6zu  %5zu  %7zu  %5zu  %4zu/%-4zu  %4zu/%-4zu  %5zu/%-3zu  %6d  %7.2f  "
-        "%7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %6zu%s\n",
+        "%7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %6zu  %8ld  %8ld%s\n",
         name.c_str(), r.robots_aligned, r.robots, r.robots_afresh, r.variables, r.factors, r.nodes,
         r.inter_robot_inliers, r.inter_robot_loop_closures, r.merges_accepted, r.merges_proposed,
         r.verdicts_known, r.verdicts_redecided, r.solves, r.alignment_s, r.build_s, r.gnc_s,
-        r.whole_graph_s, r.graph_s, r.rooms_s, r.time_s, r.whole_graph_free, apart.c_str());
+        r.whole_graph_s, r.graph_s, r.rooms_s, r.time_s, r.whole_graph_free, wrong, across,
+        apart.c_str());
     std::fflush(stdout);
     return r.time_s;
   };
   const char* header =
       "  round  aligned  afresh  poses  factors  nodes  kept/lc    merges     known/redo  solves  "
-      "align_s  build_s    gnc_s  whole_s  graph_s  rooms_s  total_s   moved\n";
+      "align_s  build_s    gnc_s  whole_s  graph_s  rooms_s  total_s   moved  lc_wrong  merges_x\n";
   if (every > 0) std::printf("%s", header);
   const auto t0 = std::chrono::steady_clock::now();
   double online_s = 0.0;
