@@ -72,6 +72,37 @@ RobustPgoOptions asDecided(const LabelledGraph& g, const RobustPgoResult& batch,
   return options;
 }
 
+// Loop closures new beside many known ones are decided on GNC's faster incremental schedule, the
+// same as on the full one; a batch without known verdicts keeps the full schedule.
+TEST(RobustPoseGraph, FewNewLoopClosuresTakeTheIncrementalSchedule) {
+  const LabelledGraph g = readLabelledGrid("grid1000_10p_outliers");
+  const NodeId anchor(0, 0);
+  const auto initial = odometryInitialization(g.graph, anchor);
+  RobustPgoOptions full_schedule;
+  full_schedule.incremental_mu_step = 1.0;
+  const RobustPgoResult batch = optimizePoseGraph(g.graph, initial, anchor);
+  const RobustPgoResult batch_full = optimizePoseGraph(g.graph, initial, anchor, full_schedule);
+  EXPECT_EQ(batch.gnc.iterations, batch_full.gnc.iterations);
+  EXPECT_EQ(batch.edge_inlier, batch_full.edge_inlier);
+
+  // Every tenth loop closure undecided (inliers and outliers among them), the others as decided.
+  size_t seen = 0, undecided = 0;
+  RobustPgoOptions incremental = asDecided(g, batch);
+  for (size_t k = 0; k < g.graph.edges.size(); ++k) {
+    if (g.graph.edges[k].kind != PoseGraphEdge::Kind::kLoopClosure || seen++ % 10 != 0) continue;
+    incremental.known_inlier[k] = incremental.held_out[k] = false;
+    ++undecided;
+  }
+  ASSERT_GT(undecided, 20u);
+  RobustPgoOptions full = incremental;
+  full.incremental_mu_step = 1.0;
+  const RobustPgoResult fast = optimizePoseGraph(g.graph, batch.poses, anchor, incremental);
+  const RobustPgoResult slow = optimizePoseGraph(g.graph, batch.poses, anchor, full);
+  EXPECT_EQ(fast.edge_inlier, slow.edge_inlier);
+  EXPECT_EQ(fast.edge_inlier, batch.edge_inlier);
+  EXPECT_LT(fast.gnc.iterations, slow.gnc.iterations);
+}
+
 // A solve that takes an earlier solve's verdicts (known inliers, the rejected held out) and starts
 // from its poses decides the same without GNC's schedule; known inliers that are wrong (true
 // outliers given as inliers) are contradicted by the result and rejected.

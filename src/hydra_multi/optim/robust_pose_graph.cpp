@@ -93,7 +93,10 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
       const std::vector<double> r2 = problem.squaredResiduals();
       for (const size_t k : robust_edges) initial_r2.push_back(r2[k]);
     }
-    result.gnc = runGnc(robust_edges.size(), solve, options.gnc,
+    GncOptions schedule = options.gnc;
+    if (options.incremental_mu_step > 1.0 && known.size() >= robust_edges.size())
+      schedule.mu_step = options.incremental_mu_step;
+    result.gnc = runGnc(robust_edges.size(), solve, schedule,
                         options.gnc_from_initial_estimate ? &initial_r2 : nullptr);
     result.poses = problem.poses();
     result.edge_weight = edge_weights;

@@ -39,6 +39,10 @@ struct RobustPgoOptions {
   /// spurious closures: 3 iterations, recall 1.0 in 5 s; 10 or 100, recall 0.906 in 11-15 s;
   /// grid1000 classifies the same either way.
   int gnc_inner_iterations = 3;
+  /// GNC's mu step (GncOptions::mu_step) when at least as many robust factors are known inliers as
+  /// are undecided: an incremental round deciding what is new beside what earlier rounds kept.
+  /// 1: gnc.mu_step throughout.
+  double incremental_mu_step = 3.0;
   /// GNC's first weights from the residuals at the initial estimate instead of a least-squares
   /// solve over every loop closure (see runGnc).
   bool gnc_from_initial_estimate = true;

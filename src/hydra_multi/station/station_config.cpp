@@ -108,6 +108,10 @@ const std::map<std::string, std::map<std::string, Setter>>& setters() {
         {"gnc_mu_step",
          number([](StationOptions& o, double x) { o.backend.deformation.solver.gnc.mu_step = x; },
                 1.0, true)},
+        {"gnc_incremental_mu_step",
+         number([](StationOptions& o,
+                   double x) { o.backend.deformation.solver.incremental_mu_step = x; },
+                1.0, false)},
         {"gnc_inlier_probability", number(
                                        [](StationOptions& o, double x) {
                                          o.backend.deformation.solver.gnc.inlier_probability =
