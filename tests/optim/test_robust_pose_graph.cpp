@@ -134,36 +134,48 @@ TEST(RobustPoseGraph, KnownVerdictsAreKeptUnlessTheResultContradictsThem) {
   EXPECT_GE(c.recall, 0.98);
 }
 
-// Held-out loop closures that fit are re-admitted and solved again. A later solve of the same
-// problem that knows the earlier one's solutions without and with them starts its re-admission
-// solve where the earlier one's ended: the same verdicts and optimum, in fewer iterations than
-// from the held-out solution.
-TEST(RobustPoseGraph, ReadmissionStartsWhereTheEarlierOneEnded) {
-  const LabelledGraph g = readLabelledGrid("grid1000_10p_outliers");
-  const NodeId anchor(0, 0);
-  const RobustPgoResult batch =
-      optimizePoseGraph(g.graph, odometryInitialization(g.graph, anchor), anchor);
-  // Every third true inlier held out (doubted), the rest as the batch decided them.
-  size_t held = 0;
-  const RobustPgoOptions options =
-      asDecided(g, batch, [&](size_t k) { return g.inliers.count(k) && held++ % 3 == 0; });
-  const RobustPgoResult first = optimizePoseGraph(g.graph, batch.poses, anchor, options);
-  ASSERT_FALSE(first.held_out_poses.empty());  // they fit, and were re-admitted
+// grid1000 with every third true inlier held out (doubted) and the rest as a batch decided them:
+// the first solve, which re-admits the doubted ones that fit, and a second one from its held-out
+// solution (leaves from its final one) that knows no earlier solve.
+struct Readmission {
+  LabelledGraph g = readLabelledGrid("grid1000_10p_outliers");
+  NodeId anchor{0, 0};
+  RobustPgoOptions options;
+  RobustPgoResult first, plain;
+  std::map<NodeId, Eigen::Isometry3d> start;
 
-  // From the held-out solution (it leaves out leaves: those from the final one).
-  std::map<NodeId, Eigen::Isometry3d> start = first.poses;
-  for (const auto& [id, pose] : first.held_out_poses) start[id] = pose;
-  const RobustPgoResult plain = optimizePoseGraph(g.graph, start, anchor, options);
-  RobustPgoOptions earlier = options;
-  earlier.earlier_held_out = first.held_out_poses;
-  earlier.earlier_readmitted = first.poses;
-  const RobustPgoResult again = optimizePoseGraph(g.graph, start, anchor, earlier);
-  EXPECT_EQ(again.edge_inlier, first.edge_inlier);
-  EXPECT_EQ(plain.edge_inlier, first.edge_inlier);
-  EXPECT_NEAR(again.final_cost, first.final_cost, 1e-6 * first.final_cost);
-  EXPECT_LT(again.solver_iterations, plain.solver_iterations);
+  Readmission() {
+    const RobustPgoResult batch =
+        optimizePoseGraph(g.graph, odometryInitialization(g.graph, anchor), anchor);
+    size_t held = 0;
+    options = asDecided(g, batch, [&](size_t k) { return g.inliers.count(k) && held++ % 3 == 0; });
+    first = optimizePoseGraph(g.graph, batch.poses, anchor, options);
+    start = first.poses;
+    for (const auto& [id, pose] : first.held_out_poses) start[id] = pose;
+    plain = optimizePoseGraph(g.graph, start, anchor, options);
+  }
+  /// The options with the first solve as the earlier one.
+  RobustPgoOptions withEarlier() const {
+    RobustPgoOptions earlier = options;
+    earlier.earlier_held_out = first.held_out_poses;
+    earlier.earlier_readmitted = first.poses;
+    return earlier;
+  }
+};
+
+// A later solve of the same problem that knows the earlier one's solutions without and with what
+// it re-admitted starts its re-admission solve where the earlier one's ended: the same verdicts
+// and optimum, in fewer iterations than from the held-out solution.
+TEST(RobustPoseGraph, ReadmissionStartsWhereTheEarlierOneEnded) {
+  const Readmission r;
+  ASSERT_FALSE(r.first.held_out_poses.empty());  // they fit, and were re-admitted
+  const RobustPgoResult again = optimizePoseGraph(r.g.graph, r.start, r.anchor, r.withEarlier());
+  EXPECT_EQ(again.edge_inlier, r.first.edge_inlier);
+  EXPECT_EQ(r.plain.edge_inlier, r.first.edge_inlier);
+  EXPECT_NEAR(again.final_cost, r.first.final_cost, 1e-6 * r.first.final_cost);
+  EXPECT_LT(again.solver_iterations, r.plain.solver_iterations);
   double apart = 0.0;  // the same optimum, to the solver's tolerance
-  for (const auto& [id, pose] : first.poses)
+  for (const auto& [id, pose] : r.first.poses)
     apart = std::max(apart, (again.poses.at(id).translation() - pose.translation()).norm());
   EXPECT_LT(apart, 0.01);
 }
@@ -171,30 +183,17 @@ TEST(RobustPoseGraph, ReadmissionStartsWhereTheEarlierOneEnded) {
 // An earlier solve that fits this one's inliers worse than the solution a re-admission adds to
 // (here its poses 0.5 m off at random) is not where the next solve starts.
 TEST(RobustPoseGraph, ReadmissionKeepsItsOwnSolutionWhereTheEarlierOneFitsWorse) {
-  const LabelledGraph g = readLabelledGrid("grid1000_10p_outliers");
-  const NodeId anchor(0, 0);
-  const RobustPgoResult batch =
-      optimizePoseGraph(g.graph, odometryInitialization(g.graph, anchor), anchor);
-  size_t held = 0;
-  const RobustPgoOptions options =
-      asDecided(g, batch, [&](size_t k) { return g.inliers.count(k) && held++ % 3 == 0; });
-  const RobustPgoResult first = optimizePoseGraph(g.graph, batch.poses, anchor, options);
-  ASSERT_FALSE(first.held_out_poses.empty());
-
-  std::map<NodeId, Eigen::Isometry3d> start = first.poses;
-  for (const auto& [id, pose] : first.held_out_poses) start[id] = pose;
-  const RobustPgoResult plain = optimizePoseGraph(g.graph, start, anchor, options);
-  RobustPgoOptions earlier = options;
-  earlier.earlier_held_out = first.held_out_poses;
-  earlier.earlier_readmitted = first.poses;
+  const Readmission r;
+  ASSERT_FALSE(r.first.held_out_poses.empty());
+  RobustPgoOptions earlier = r.withEarlier();
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 0.5);
   for (auto& [id, pose] : earlier.earlier_readmitted)
     pose.translation() += Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
-  const RobustPgoResult again = optimizePoseGraph(g.graph, start, anchor, earlier);
-  EXPECT_EQ(again.edge_inlier, plain.edge_inlier);
-  EXPECT_NEAR(again.final_cost, plain.final_cost, 1e-6 * plain.final_cost);
-  EXPECT_EQ(again.solver_iterations, plain.solver_iterations);
+  const RobustPgoResult again = optimizePoseGraph(r.g.graph, r.start, r.anchor, earlier);
+  EXPECT_EQ(again.edge_inlier, r.plain.edge_inlier);
+  EXPECT_NEAR(again.final_cost, r.plain.final_cost, 1e-6 * r.plain.final_cost);
+  EXPECT_EQ(again.solver_iterations, r.plain.solver_iterations);
 }
 
 // Poses with one known-inlier edge (a place tied to its keyframe) are solved after the rest: the
