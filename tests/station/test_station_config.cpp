@@ -16,7 +16,8 @@ TEST(StationConfig, KeysSetOptions) {
       "alignment": {"min_inliers": 7, "sigma_translation_m": 0.25, "realign_threshold_m": 4,
                     "decline_refuted": false, "refuted_within_m": 2.5, "weigh_support": false},
       "deformation": {"two_stage": false, "final_iterations": 0, "mesh_variance": 0.001,
-                      "gnc_mu_step": 2.0, "link_max_dt_s": 0, "odometry_rotation_variance": 0.01},
+                      "gnc_mu_step": 2.0, "gnc_incremental_mu_step": 1, "link_max_dt_s": 0,
+                      "odometry_rotation_variance": 0.01},
       "reconciliation": {"enabled": false, "place_max_distance": 0.6, "label_votes": true,
                          "label_confusion": 0.2, "label_min_odds": 2},
       "rooms": {"enabled": false, "min_room_places": 4, "threshold_rule": "most",
@@ -37,6 +38,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_EQ(options.backend.deformation.final_iterations, 0);
   EXPECT_DOUBLE_EQ(options.backend.deformation.mesh_variance, 0.001);
   EXPECT_DOUBLE_EQ(options.backend.deformation.solver.gnc.mu_step, 2.0);
+  EXPECT_DOUBLE_EQ(options.backend.deformation.solver.incremental_mu_step, 1.0);
   EXPECT_DOUBLE_EQ(options.backend.deformation.link_max_dt_s, 0.0);
   EXPECT_DOUBLE_EQ(options.backend.deformation.odometry_rotation_variance, 0.01);
   EXPECT_FALSE(options.backend.reconcile);
@@ -67,6 +69,8 @@ TEST(StationConfig, ErrorsNameTheProblemAndChangeNothing) {
       {R"({"deformation": {"mesh_variance": -1}})",
        "deformation.mesh_variance: expected a number > 0"},
       {R"({"deformation": {"two_stage": 1}})", "deformation.two_stage: expected true or false"},
+      {R"({"deformation": {"gnc_incremental_mu_step": 0.5}})",
+       "deformation.gnc_incremental_mu_step: expected a number >= 1"},
       {R"({"reconciliation": {"label_confusion": 0.5}})",
        "reconciliation.label_confusion: expected a number > 0 and < 0.5"},
       {R"({"reconciliation": {"label_min_shared_vertices": 1.5}})",
