@@ -92,8 +92,11 @@ int main(int argc, char** argv) {
       robots.push_back({r, &state->pose_graph, &state->control_points, &state->control_point_edges,
                         &state->mesh});
     }
+    // As the station gives them: the alignment's consensus weighs each by its support.
     const std::vector<PoseGraphEdge> inter = interRobotEdges(detector.loopClosures());
-    const BackendRoundReport r = backend.round(processor.graph(), robots, inter, root, {}, scratch);
+    const std::vector<double> support = interRobotSupport(detector.loopClosures());
+    const BackendRoundReport r =
+        backend.round(processor.graph(), robots, inter, root, support, scratch);
     // Kept inter-robot loop closures the truth calls wrong (-1: no truth).
     long wrong = truth ? 0 : -1;
     const auto stamp = [&processor](NodeId keyframe) -> int64_t {
@@ -121,7 +124,7 @@ int main(int argc, char** argv) {
     }
     std::string apart;
     if (compare_full) {
-      full.round(processor.graph(), robots, inter, root, {}, scratch);
+      full.round(processor.graph(), robots, inter, root, support, scratch);
       std::vector<double> d;
       for (const auto& [id, node] : backend.graph().nodes()) {
         if (const Node* other = full.graph().findNode(id); other != nullptr)
