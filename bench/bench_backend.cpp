@@ -75,6 +75,8 @@ int main(int argc, char** argv) {
   if (auto read = readDatasetGroundTruth(argv[1])) truth = std::move(read.value());
   std::optional<TrueRooms> true_rooms;
   if (truth) true_rooms.emplace(*truth);
+  const std::vector<DetectedLoopClosure> kNoLoopClosures;
+  const std::vector<AcceptedMerge> kNoMerges;
   const RobotId root =
       *std::min_element(streams.value().robots.begin(), streams.value().robots.end());
   SceneGraphProcessor processor;
@@ -104,10 +106,9 @@ int main(int argc, char** argv) {
       const AgentAttributes* agent = node ? node->find<AgentAttributes>() : nullptr;
       return agent ? agent->timestamp_ns : -1;
     };
-    for (const DetectedLoopClosure& c : detector.loopClosures()) {
+    for (const DetectedLoopClosure& c : truth ? detector.loopClosures() : kNoLoopClosures) {
       const auto kept = backend.loopClosureInliers().find({c.keyframe_a, c.keyframe_b});
-      if (!truth || !c.interRobot() || kept == backend.loopClosureInliers().end() || !kept->second)
-        continue;
+      if (!c.interRobot() || kept == backend.loopClosureInliers().end() || !kept->second) continue;
       wrong += !checkLoopClosure(*truth, c.robot_a, stamp(c.keyframe_a), c.robot_b,
                                  stamp(c.keyframe_b), c.T_a_b)
                     .correct;
@@ -117,11 +118,8 @@ int main(int argc, char** argv) {
     const auto sideOf = [](const AcceptedMerge::Side& s) {
       return MergeSide{s.robot, s.position, s.keyframe_stamp_ns, s.T_robot_keyframe};
     };
-    for (const AcceptedMerge& m : backend.merges()) {
-      if (true_rooms)
-        across +=
-            checkMerge(*true_rooms, sideOf(m.target_side), sideOf(m.source_side)).across_rooms;
-    }
+    for (const AcceptedMerge& m : true_rooms ? backend.merges() : kNoMerges)
+      across += checkMerge(*true_rooms, sideOf(m.target_side), sideOf(m.source_side)).across_rooms;
     std::string apart;
     if (compare_full) {
       full.round(processor.graph(), robots, inter, root, support, scratch);

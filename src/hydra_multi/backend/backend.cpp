@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <limits>
 #include <optional>
 #include <set>
 
@@ -99,21 +98,22 @@ void Backend::rememberForNextRound(const SceneGraph& frontend, const Deformation
   // Each robot's keyframes, latest first: a node new next round moves as the latest one did.
   std::map<RobotId, std::vector<std::pair<int64_t, NodeId>>> keyframes;
   for (const auto& [robot, T] : T_global_robot) {
+    auto& stamped = keyframes[robot];
     for (const NodeId id : frontend.nodesOfRobot(robot)) {
       if (const AgentAttributes* agent = frontend.getNode(id).find<AgentAttributes>())
-        keyframes[robot].emplace_back(agent->timestamp_ns, id);
+        stamped.emplace_back(agent->timestamp_ns, id);
     }
+    std::sort(stamped.rbegin(), stamped.rend());
   }
   const auto latestOf = [&keyframes](const std::map<NodeId, Eigen::Isometry3d>& corrections) {
     std::map<RobotId, Eigen::Isometry3d> latest;
-    for (auto& [robot, stamped] : keyframes) {
-      const auto newest = std::max_element(
-          stamped.begin(), stamped.end(), [&corrections](const auto& a, const auto& b) {
-            return std::make_pair(corrections.count(a.second) != 0, a.first) <
-                   std::make_pair(corrections.count(b.second) != 0, b.first);
-          });
-      if (newest != stamped.end() && corrections.count(newest->second))
-        latest[robot] = corrections.at(newest->second);
+    for (const auto& [robot, stamped] : keyframes) {
+      for (const auto& [stamp, id] : stamped) {
+        if (const auto it = corrections.find(id); it != corrections.end()) {
+          latest[robot] = it->second;
+          break;
+        }
+      }
     }
     return latest;
   };
