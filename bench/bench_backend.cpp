@@ -11,8 +11,8 @@
 // graph every round (DeformationGraphOptions::local_whole_graph off) runs the same rounds, and each
 // round prints how far the two backend graphs' nodes are apart (median, max). Where the dataset
 // has its ground truth, each round also counts the inter-robot loop closures it kept that the
-// truth calls wrong (lc_wrong) and the merges it kept that join two true rooms (merges_x);
-// evaluation only, as `run` scores them.
+// truth calls wrong (lc_wrong), the merges it kept that join two true rooms (merges_x) and the
+// ATE of its backend graph's keyframes (ate_m); evaluation only, as `run` scores them.
 //
 //   bench_backend DATASET_DIR [--rounds N] [--every K] [--config FILE] [--verbose]
 //                 [--from-scratch] [--compare-full]
@@ -27,6 +27,7 @@
 
 #include "hydra_multi/eval/dataset_evaluation.h"
 #include "hydra_multi/eval/dataset_ground_truth.h"
+#include "hydra_multi/eval/trajectory_error.h"
 #include "hydra_multi/station/station.h"
 #include "hydra_multi/station/station_config.h"
 
@@ -77,6 +78,7 @@ int main(int argc, char** argv) {
   if (truth) true_rooms.emplace(*truth);
   const std::vector<DetectedLoopClosure> kNoLoopClosures;
   const std::vector<AcceptedMerge> kNoMerges;
+  const std::vector<NodeId> kNoNodes;
   const RobotId root =
       *std::min_element(streams.value().robots.begin(), streams.value().robots.end());
   SceneGraphProcessor processor;
@@ -120,6 +122,21 @@ int main(int argc, char** argv) {
     };
     for (const AcceptedMerge& m : true_rooms ? backend.merges() : kNoMerges)
       across += checkMerge(*true_rooms, sideOf(m.target_side), sideOf(m.source_side)).across_rooms;
+    // The ATE of the round's backend graph: its keyframes against their true positions (m; -1:
+    // no truth or fewer than 3 keyframes matched).
+    double ate = -1.0;
+    std::vector<Eigen::Vector3d> estimate, reference;
+    for (const NodeId id : truth ? backend.graph().nodesInLayer(Layer::kAgents) : kNoNodes) {
+      const Node& node = backend.graph().getNode(id);
+      const AgentAttributes* agent = node.find<AgentAttributes>();
+      if (!node.robot() || agent == nullptr) continue;
+      if (const Eigen::Isometry3d* T = truth->poseAt(*node.robot(), agent->timestamp_ns)) {
+        estimate.push_back(node.position);
+        reference.push_back(T->translation());
+      }
+    }
+    if (auto error = absoluteTrajectoryError(estimate, reference); error)
+      ate = error.value().statistics.rmse;
     std::string apart;
     if (compare_full) {
       full.round(processor.graph(), robots, inter, root, support, scratch);
@@ -136,18 +153,19 @@ int main(int argc, char** argv) {
     }
     std::printf(
         "%7s  %3zu/%-3zu  %6zu  %5zu  %7zu  %5zu  %4zu/%-4zu  %4zu/%-4zu  %5zu/%-3zu  %6d  %7.2f  "
-        "%7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %6zu  %8ld  %8ld%s\n",
+        "%7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %6zu  %8ld  %8ld  %7.4f%s\n",
         name.c_str(), r.robots_aligned, r.robots, r.robots_afresh, r.variables, r.factors, r.nodes,
         r.inter_robot_inliers, r.inter_robot_loop_closures, r.merges_accepted, r.merges_proposed,
         r.verdicts_known, r.verdicts_redecided, r.solves, r.alignment_s, r.build_s, r.gnc_s,
-        r.whole_graph_s, r.graph_s, r.rooms_s, r.time_s, r.whole_graph_free, wrong, across,
+        r.whole_graph_s, r.graph_s, r.rooms_s, r.time_s, r.whole_graph_free, wrong, across, ate,
         apart.c_str());
     std::fflush(stdout);
     return r.time_s;
   };
   const char* header =
       "  round  aligned  afresh  poses  factors  nodes  kept/lc    merges     known/redo  solves  "
-      "align_s  build_s    gnc_s  whole_s  graph_s  rooms_s  total_s   moved  lc_wrong  merges_x\n";
+      "align_s  build_s    gnc_s  whole_s  graph_s  rooms_s  total_s   moved  lc_wrong  merges_x   "
+      " ate_m\n";
   if (every > 0) std::printf("%s", header);
   const auto t0 = std::chrono::steady_clock::now();
   double online_s = 0.0;
