@@ -58,6 +58,47 @@ TEST(MultiRobotAlignment, RecoversFramesAmongOutliers) {
   EXPECT_EQ(alignRobotFrames(3, local, robot_of, edges, 0, strict).numAligned(), 1u);
 }
 
+// A loop closure the frontend finds again (the same two keyframes) is no new evidence: eight
+// copies of one wrong match do not align a robot, while five loop closures between distinct
+// keyframes do, and the pair reports its distinct keyframe pairs as its inliers.
+TEST(MultiRobotAlignment, OneMatchFoundAgainCountsOnce) {
+  const Eigen::Isometry3d T_world_b = expSE3((Vector6d() << 6, 2, 0, 0, 0, 0.7).finished());
+  std::map<NodeId, Eigen::Isometry3d> local, world;
+  std::unordered_map<NodeId, size_t> robot_of;
+  for (size_t r = 0; r < 2; ++r) {
+    for (uint64_t i = 0; i < 10; ++i) {
+      const NodeId id(RobotId(static_cast<uint8_t>(r)).prefix(), i);
+      world[id] = expSE3((Vector6d() << i, 0.3 * i, 0, 0, 0, 0.05 * i).finished());
+      local[id] = (r == 0 ? Eigen::Isometry3d::Identity() : T_world_b.inverse()) * world[id];
+      robot_of[id] = r;
+    }
+  }
+  const auto closure = [&](uint64_t i, uint64_t j, const Eigen::Isometry3d& error) {
+    PoseGraphEdge e;
+    e.from = NodeId(RobotId(0).prefix(), i);
+    e.to = NodeId(RobotId(1).prefix(), j);
+    e.kind = PoseGraphEdge::Kind::kLoopClosure;
+    e.T_from_to = world[e.from].inverse() * world[e.to] * error;
+    return e;
+  };
+  // A look-alike room: one wrong match (12 m off, turned 170 degrees), found eight times.
+  const Eigen::Isometry3d wrong = expSE3((Vector6d() << 12, 0, 0, 0, 0, 2.97).finished());
+  const std::vector<PoseGraphEdge> copies(8, closure(3, 7, wrong));
+  const MultiRobotAlignment once = alignRobotFrames(2, local, robot_of, copies);
+  EXPECT_EQ(once.numAligned(), 1u);
+  ASSERT_EQ(once.pairs.size(), 1u);
+  EXPECT_EQ(once.pairs[0].loop_closures, 8u);
+  EXPECT_EQ(once.pairs[0].inliers, 1u);
+
+  std::vector<PoseGraphEdge> distinct;
+  for (uint64_t i = 0; i < 5; ++i)
+    distinct.push_back(closure(i, i + 2, Eigen::Isometry3d::Identity()));
+  const MultiRobotAlignment aligned = alignRobotFrames(2, local, robot_of, distinct);
+  ASSERT_EQ(aligned.numAligned(), 2u);
+  EXPECT_EQ(aligned.pairs[0].inliers, 5u);
+  EXPECT_LT(logSE3(relativePose(T_world_b, *aligned.T_world_robot[1])).norm(), 1e-6);
+}
+
 // Injected outliers make up the requested share of loop closures, join non-consecutive poses,
 // and are the same for the same seed.
 TEST(OutlierInjection, ShareAndDeterminism) {

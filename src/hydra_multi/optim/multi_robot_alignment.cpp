@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <deque>
+#include <set>
 
 namespace hydra_multi {
 
@@ -56,10 +57,13 @@ MultiRobotAlignment alignRobotFrames(size_t num_robots,
     alignment.robot_b = key.second;
     alignment.T_a_b = average.value().T;
     alignment.loop_closures = pair.estimates.size();
-    alignment.inliers = average.value().num_inliers;
+    std::set<std::pair<NodeId, NodeId>> keyframe_pairs;  // of the inliers
     for (size_t i = 0; i < pair.edges.size(); ++i) {
       result.edge_inlier[pair.edges[i]] = average.value().inliers[i];
+      const PoseGraphEdge& e = inter_robot_edges[pair.edges[i]];
+      if (average.value().inliers[i]) keyframe_pairs.insert(std::minmax(e.from, e.to));
     }
+    alignment.inliers = keyframe_pairs.size();
     result.pairs.push_back(alignment);
   }
   // Maximum spanning tree by inlier count (Kruskal), over pairs with at least k inliers.

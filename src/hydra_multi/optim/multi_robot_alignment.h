@@ -3,8 +3,10 @@
 //   for every inter-robot loop closure Z between a_i (robot A) and b_j (robot B),
 //     T_A_B,ij = T_A_ai * Z_ai_bj * (T_B_bj)^-1                                        eq. (1)
 //   per robot pair, robust pose averaging of those estimates with GNC-TLS             eq. (2)
-//   a pair counts with at least k inliers (k = 5); a spanning tree over robots prefers the pairs
-//   with the most inliers; transforms are chained to the root robot's frame (the global frame).
+//   a pair counts with at least k inliers (k = 5), each pair of keyframes once (a frontend finds
+//   one match again from later keyframes: not new evidence); a spanning tree over robots prefers
+//   the pairs with the most inliers; transforms are chained to the root robot's frame (the global
+//   frame).
 
 #include <map>
 #include <optional>
@@ -32,7 +34,7 @@ struct RobotPairAlignment {
   size_t robot_a = 0, robot_b = 0;
   Eigen::Isometry3d T_a_b = Eigen::Isometry3d::Identity();
   size_t loop_closures = 0;
-  size_t inliers = 0;
+  size_t inliers = 0;  ///< keyframe pairs among the inlier loop closures
   bool in_tree = false;
 };
 
