@@ -27,7 +27,6 @@
 
 #include "hydra_multi/eval/dataset_evaluation.h"
 #include "hydra_multi/eval/dataset_ground_truth.h"
-#include "hydra_multi/eval/trajectory_error.h"
 #include "hydra_multi/station/station.h"
 #include "hydra_multi/station/station_config.h"
 
@@ -78,7 +77,6 @@ int main(int argc, char** argv) {
   if (truth) true_rooms.emplace(*truth);
   const std::vector<DetectedLoopClosure> kNoLoopClosures;
   const std::vector<AcceptedMerge> kNoMerges;
-  const std::vector<NodeId> kNoNodes;
   const RobotId root =
       *std::min_element(streams.value().robots.begin(), streams.value().robots.end());
   SceneGraphProcessor processor;
@@ -125,18 +123,10 @@ int main(int argc, char** argv) {
     // The ATE of the round's backend graph: its keyframes against their true positions (m; -1:
     // no truth or fewer than 3 keyframes matched).
     double ate = -1.0;
-    std::vector<Eigen::Vector3d> estimate, reference;
-    for (const NodeId id : truth ? backend.graph().nodesInLayer(Layer::kAgents) : kNoNodes) {
-      const Node& node = backend.graph().getNode(id);
-      const AgentAttributes* agent = node.find<AgentAttributes>();
-      if (!node.robot() || agent == nullptr) continue;
-      if (const Eigen::Isometry3d* T = truth->poseAt(*node.robot(), agent->timestamp_ns)) {
-        estimate.push_back(node.position);
-        reference.push_back(T->translation());
-      }
+    if (truth) {
+      if (const auto error = keyframeTrajectoryError(backend.graph(), *truth); error)
+        ate = error.value().statistics.rmse;
     }
-    if (auto error = absoluteTrajectoryError(estimate, reference); error)
-      ate = error.value().statistics.rmse;
     std::string apart;
     if (compare_full) {
       full.round(processor.graph(), robots, inter, root, support, scratch);

@@ -62,12 +62,9 @@ MergeCheck checkMerge(const TrueRooms& rooms, const MergeSide& a, const MergeSid
   return check;
 }
 
-SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundTruth& truth,
-                                   std::optional<RobotId> global_robot) {
-  SceneGraphScore score;
-  score.object_threshold_m = truth.object_threshold_m;
-  const Eigen::Isometry3d T_world_global = truth.worldFromGlobal(global_robot);
-
+Result<TrajectoryError> keyframeTrajectoryError(const SceneGraph& graph,
+                                                const DatasetGroundTruth& truth,
+                                                std::vector<ScoredKeyframe>* keyframes) {
   std::vector<Eigen::Vector3d> estimate, reference;
   for (const NodeId id : graph.nodesInLayer(Layer::kAgents)) {
     const Node& node = graph.getNode(id);
@@ -77,12 +74,23 @@ SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundT
     if (const Eigen::Isometry3d* T = truth.poseAt(*robot, agent->timestamp_ns)) {
       estimate.push_back(node.position);
       reference.push_back(T->translation());
-      score.keyframes.push_back({id, agent->timestamp_ns, node.position, T->translation()});
+      if (keyframes != nullptr)
+        keyframes->push_back({id, agent->timestamp_ns, node.position, T->translation()});
     }
   }
-  score.matched_keyframes = estimate.size();
+  return absoluteTrajectoryError(estimate, reference);
+}
+
+SceneGraphScore evaluateSceneGraph(const SceneGraph& graph, const DatasetGroundTruth& truth,
+                                   std::optional<RobotId> global_robot) {
+  SceneGraphScore score;
+  score.object_threshold_m = truth.object_threshold_m;
+  const Eigen::Isometry3d T_world_global = truth.worldFromGlobal(global_robot);
+
+  const auto ate = keyframeTrajectoryError(graph, truth, &score.keyframes);
+  score.matched_keyframes = score.keyframes.size();
   Eigen::Isometry3d T_world_graph = T_world_global;
-  if (auto ate = absoluteTrajectoryError(estimate, reference); ate) {
+  if (ate) {
     score.ate_rmse_m = ate.value().statistics.rmse;
     // The paper registers the ground truth to the first robot's frame (by ICP of the meshes):
     // the graph is scored after the best rigid fit of its keyframes to the truth.

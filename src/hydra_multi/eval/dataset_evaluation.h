@@ -18,6 +18,7 @@
 #include <unordered_map>
 
 #include "hydra_multi/eval/dataset_ground_truth.h"
+#include "hydra_multi/eval/trajectory_error.h"
 
 namespace hydra_multi {
 
@@ -53,6 +54,13 @@ struct SceneGraphScore {
   size_t matched_keyframes = 0;
   bool aligned_by_trajectory = false;  ///< false: placed by robot 0's true start pose
 };
+
+/// The ATE of a graph's keyframes (those the truth has a pose for, matched by robot and time)
+/// against their true positions, and with `keyframes` those keyframes, positions as in the graph;
+/// an error with fewer than 3 matched.
+Result<TrajectoryError> keyframeTrajectoryError(const SceneGraph& graph,
+                                                const DatasetGroundTruth& truth,
+                                                std::vector<ScoredKeyframe>* keyframes = nullptr);
 
 /// `global_robot`: the robot whose frame the graph is in (StationResult::global_robot), used only
 /// without 3 matched keyframes; by default the team's first.
