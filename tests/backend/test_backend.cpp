@@ -297,6 +297,17 @@ TEST_F(TinyTeam, ALastRoundFromScratchDoesNotDependOnEarlierRounds) {
     EXPECT_EQ(r->verdicts_known, 0u);
     EXPECT_EQ(r->robots_aligned, 2u);
   }
+  // The same frames: every alignment estimated from the final loop closures, not kept from the
+  // round that first aligned the robot.
+  for (const Backend* backend : {&every3, &every7}) {
+    ASSERT_EQ(backend->aligned().size(), once.aligned().size());
+    for (const auto& [robot, alignment] : once.aligned()) {
+      const Eigen::Isometry3d& T = backend->aligned().at(robot).T_global_robot;
+      EXPECT_LT((T.translation() - alignment.T_global_robot.translation()).norm(), 1e-9)
+          << robot.str();
+      EXPECT_TRUE(T.linear().isApprox(alignment.T_global_robot.linear(), 1e-12)) << robot.str();
+    }
+  }
   EXPECT_EQ(every3.loopClosureInliers(), once.loopClosureInliers());
   EXPECT_EQ(every7.loopClosureInliers(), once.loopClosureInliers());
   EXPECT_EQ(a.merges_accepted, c.merges_accepted);

@@ -127,6 +127,27 @@ TEST(InitialAlignment, RealignsOnlyOnLargeDisagreement) {
   EXPECT_EQ(alignment.realignments(), 1u);
 }
 
+// A round afresh takes this round's estimate, whatever the optimized result says, and counts no
+// re-alignment; the next ordinary round keeps it.
+TEST(InitialAlignment, ARoundAfreshTakesTheEstimate) {
+  const Team t = team(2);
+  const RobotId a(0), b(1);
+  InitialAlignment alignment, once;
+  alignment.update(t.frontend, closures(t, a, b, 10, 0, 4), a);
+  const Eigen::Isometry3d first = alignment.aligned().at(b).T_global_robot;
+  const auto later = closures(t, a, b, 10, 0, 5);
+  alignment.update(t.frontend, later, a, {{b, first}});
+  EXPECT_TRUE(alignment.aligned().at(b).T_global_robot.isApprox(first));  // kept
+  alignment.update(t.frontend, later, a, {{b, first}}, {}, true);
+  once.update(t.frontend, later, a);
+  const Eigen::Isometry3d& afresh = alignment.aligned().at(b).T_global_robot;
+  EXPECT_FALSE(afresh.isApprox(first));
+  EXPECT_TRUE(afresh.isApprox(once.aligned().at(b).T_global_robot));
+  EXPECT_EQ(alignment.realignments(), 0u);
+  alignment.update(t.frontend, closures(t, a, b, 10, 0, 6), a, {{b, afresh}});
+  EXPECT_TRUE(alignment.aligned().at(b).T_global_robot.isApprox(afresh));
+}
+
 // Look-alike rooms: loop closures that all agree on robot b sitting 15 m off along x.
 std::vector<PoseGraphEdge> shiftedClosures(const Team& t, RobotId a, RobotId b, size_t count,
                                            uint64_t seed) {

@@ -135,7 +135,8 @@ void Backend::align(const SceneGraph& frontend, const std::vector<BackendRobot>&
   } else if (!options_.initial_alignment) {
     for (const BackendRobot& robot : robots) aligned_[robot.robot];
   } else {
-    aligned_ = alignment_.update(frontend, inter_robot, root, optimized_first_keyframes_, support);
+    aligned_ = alignment_.update(frontend, inter_robot, root, optimized_first_keyframes_, support,
+                                 from_scratch_);
   }
 }
 

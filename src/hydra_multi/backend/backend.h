@@ -124,7 +124,8 @@ class Backend {
 
   /// `support`: one weight per inter-robot loop closure for the alignment's consensus (empty:
   /// by count). `from_scratch`: take no poses or verdicts from the last round (as without
-  /// BackendOptions::incremental), so the result does not depend on when earlier rounds ran.
+  /// BackendOptions::incremental) and estimate every alignment afresh (initial_alignment.h), so
+  /// the result does not depend on when earlier rounds ran.
   BackendRoundReport round(const SceneGraph& frontend, const std::vector<BackendRobot>& robots,
                            const std::vector<PoseGraphEdge>& inter_robot, RobotId root,
                            const std::vector<double>& support = {}, bool from_scratch = false);

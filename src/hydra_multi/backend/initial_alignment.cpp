@@ -5,7 +5,7 @@ namespace hydra_multi {
 const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
     const SceneGraph& frontend, const std::vector<PoseGraphEdge>& inter_robot,
     RobotId preferred_root, const std::map<RobotId, Eigen::Isometry3d>& optimized_first_keyframes,
-    const std::vector<double>& support) {
+    const std::vector<double>& support, bool afresh) {
   if (!root_) root_ = preferred_root;
   const RobotId root = *root_;
   // Robots in a dense order, the root first.
@@ -67,11 +67,12 @@ const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
   // robot's start far from where the optimized result has it. (Comparing the kept alignment
   // instead would never catch a wrong early one: the optimization starts from it and stays there,
   // GNC rejecting the loop closures that contradict it.)
+  if (afresh) tried_.clear();
   for (size_t i = 0; i < robots.size(); ++i) {
     const RobotId robot = robots[i];
     if (!result.T_world_robot[i]) continue;
     auto known = aligned_.find(robot);
-    if (known != aligned_.end() && !options_.always_realign) {
+    if (known != aligned_.end() && !options_.always_realign && !afresh) {
       ++known->second.rounds_aligned;
       const auto optimized_first = optimized.find(robot);
       const auto first = first_keyframe.find(robot);

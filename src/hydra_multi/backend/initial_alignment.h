@@ -16,6 +16,9 @@
 // than realign_threshold_m (the pose of the robot's first keyframe after optimization against the
 // one the estimate gives), and the optimization has not refuted about that estimate already
 // (decline_refuted). A robot not aligned yet stays in its own frame and takes no part in merging.
+// A round afresh (the station's last) takes every robot's estimate from this round's loop closures,
+// so its alignments do not depend on when earlier rounds ran; a robot this round cannot align
+// keeps the alignment it had.
 //
 // The global frame is the root's: the robot the caller prefers (the station: robot a, or the
 // lowest robot it has data of). It stays where it was first put; when a lower robot is preferred
@@ -73,11 +76,12 @@ class InitialAlignment {
   /// when given, holds the
   /// backend's optimized global pose of each aligned robot's first keyframe, for the
   /// re-alignment rule. `support`, when given, holds one weight per inter-robot loop closure for
-  /// the consensus (weigh_support). Returns the robots aligned after this round.
+  /// the consensus (weigh_support). `afresh`: take every estimate (see above). Returns the robots
+  /// aligned after this round.
   const std::map<RobotId, RobotFrameAlignment>& update(
       const SceneGraph& frontend, const std::vector<PoseGraphEdge>& inter_robot, RobotId root,
       const std::map<RobotId, Eigen::Isometry3d>& optimized_first_keyframes = {},
-      const std::vector<double>& support = {});
+      const std::vector<double>& support = {}, bool afresh = false);
 
   const std::map<RobotId, RobotFrameAlignment>& aligned() const { return aligned_; }
   bool isAligned(RobotId robot) const { return aligned_.count(robot) != 0; }
