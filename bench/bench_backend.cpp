@@ -12,7 +12,9 @@
 // round prints how far the two backend graphs' nodes are apart (median, max). Where the dataset
 // has its ground truth, each round also counts the inter-robot loop closures it kept that the
 // truth calls wrong (lc_wrong), the merges it kept that join two true rooms (merges_x) and the
-// ATE of its backend graph's keyframes (ate_m); evaluation only, as `run` scores them.
+// ATE of its backend graph's keyframes (ate_m); evaluation only, as `run` scores them. After
+// the online rounds a line sums them up: rounds scored, those with an ATE over 1 m (a robot
+// placed in the wrong room or wing) and those keeping wrong loop closures, the median and max ATE.
 //
 //   bench_backend DATASET_DIR [--rounds N] [--every K] [--config FILE] [--verbose]
 //                 [--from-scratch] [--compare-full]
@@ -24,6 +26,7 @@
 #include <cstring>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "hydra_multi/eval/dataset_evaluation.h"
 #include "hydra_multi/eval/dataset_ground_truth.h"
@@ -87,6 +90,8 @@ int main(int argc, char** argv) {
   full_options.deformation.solver.progress = nullptr;
   Backend full(full_options);
   std::vector<BackendRobot> robots;
+  long last_wrong = -1;  // of the last round run (-1: no truth)
+  double last_ate = -1.0;
   const auto runRound = [&](const std::string& name, bool scratch) {
     robots.clear();
     for (const RobotId r : processor.robots()) {
@@ -150,6 +155,8 @@ int main(int argc, char** argv) {
         r.whole_graph_s, r.graph_s, r.rooms_s, r.time_s, r.whole_graph_free, wrong, across, ate,
         apart.c_str());
     std::fflush(stdout);
+    last_wrong = wrong;
+    last_ate = ate;
     return r.time_s;
   };
   const char* header =
@@ -160,13 +167,28 @@ int main(int argc, char** argv) {
   const auto t0 = std::chrono::steady_clock::now();
   double online_s = 0.0;
   size_t applied = 0, online_rounds = 0;
+  // The online maps against the truth: rounds scored, with an ATE over kWrongMapM, with wrong
+  // loop closures kept.
+  constexpr double kWrongMapM = 1.0;
+  std::vector<double> online_ate;
+  size_t wrong_maps = 0, wrong_kept = 0;
+  std::string last_wrong_map;
   for (const RobotUpdate& update : streams.value().updates) {
     const UpdateReport report = processor.process(update);
     if (report.outcome != UpdateOutcome::kApplied) continue;
     detector.update(processor, report.new_keyframes);
     if (every > 0 && ++applied % every == 0) {
-      online_s += runRound("u" + std::to_string(applied), false);
+      const std::string name = "u" + std::to_string(applied);
+      online_s += runRound(name, false);
       ++online_rounds;
+      wrong_kept += last_wrong > 0;
+      if (last_ate >= 0.0) {
+        online_ate.push_back(last_ate);
+        if (last_ate > kWrongMapM) {
+          ++wrong_maps;
+          last_wrong_map = name;
+        }
+      }
     }
   }
   detector.flush(processor);
@@ -178,6 +200,15 @@ int main(int argc, char** argv) {
   if (online_rounds > 0)
     std::printf("online: %zu rounds, %.1f s, %.2f s per round\n", online_rounds, online_s,
                 online_s / double(online_rounds));
+  if (!online_ate.empty()) {
+    std::sort(online_ate.begin(), online_ate.end());
+    std::printf(
+        "online maps: %zu rounds scored, %zu with an ATE over %.0f m%s%s%s, %zu keeping wrong loop "
+        "closures; ATE median %.3f m, max %.3f m\n",
+        online_ate.size(), wrong_maps, kWrongMapM, wrong_maps > 0 ? " (the last " : "",
+        last_wrong_map.c_str(), wrong_maps > 0 ? ")" : "", wrong_kept,
+        online_ate[online_ate.size() / 2], online_ate.back());
+  }
   std::printf("%s", header);
   for (int i = 0; i < rounds; ++i) runRound(std::to_string(i), from_scratch);
   return 0;
