@@ -5,11 +5,13 @@
 # a proxy of the test's own (tests/support/fault_proxy.cpp) that delays all traffic by 50 ms and
 # cuts each connection at a random moment (mean 1.5 s). Nothing is lost: every update applied
 # once, none behind a gap or rejected, none late in the time order, and the map is run's on the
-# same dataset. The order's hold is 30 s: through these faults on a loaded machine a robot was
-# once silent for 9 s, longer than the default 5 s. Needs root (for the namespaces) and iptables:
-# without them it says so and is skipped (exit 77). Bounded: it ends itself after 100 s, saying
-# where it was; every process started here is stopped and both namespaces deleted when it ends,
-# also on failure, and namespaces of an earlier run that was killed are deleted at its start.
+# same dataset. The order's hold is 60 s: a robot whose connections are cut before the station
+# welcomes them backs off 0.5, 1, 2, 4, 8 and 16 s (robot_client.h), silent 31.5 s after six such
+# cuts; under a loaded fresh-clone `.ci/run` robot a (8 connections) once sent 8 updates after a
+# hold of 30 s had let later ones go (the map still run's). Needs root (for the namespaces) and
+# iptables: without them it says so and is skipped (exit 77). Bounded: it ends itself after 100 s,
+# saying where it was; every process started here is stopped and both namespaces deleted when it
+# ends, also on failure, and namespaces of an earlier run that was killed are deleted at its start.
 #   usage: faulty_links.sh HYDRA_MULTI FAULT_PROXY DATASET OUT_DIR SPEED
 set -u
 HM=$1
@@ -63,7 +65,7 @@ in_robots iptables -A OUTPUT -o hm$$b -m statistic --mode random --probability 0
 
 spawn "$OUT/station.txt" timeout 80 ip netns exec "$ns_station" "$HM" station \
   --listen "tcp://$subnet.1:7800" --out "$OUT/station" --expect-robots 2 --order time \
-  --order-hold 30 --quiet
+  --order-hold 60 --quiet
 station=$spawned
 spawn "$OUT/proxy.txt" timeout 80 ip netns exec "$ns_robots" "$PROXY" --listen 127.0.0.1:0 \
   --upstream "$subnet.1:7800" --port-file "$OUT/proxy.port" --delay-ms 50 --cut-mean-s 1.5 \
