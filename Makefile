@@ -76,7 +76,7 @@ bench-backend: build
 
 # The online maps of every team preset against the truth, a backend round every EVERY updates
 # (ONLINE_SEEDS="1 2", EVERY=20 for others): rounds with a wrong map, rounds keeping wrong loop
-# closures, their ATE. About 3 minutes with the defaults.
+# closures, their ATE. About 2 minutes with the defaults.
 ONLINE_SEEDS ?= 1 2 3 4 5
 EVERY ?= 10
 bench-online: build
