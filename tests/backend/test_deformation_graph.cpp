@@ -1,5 +1,5 @@
 // The deformation graph: drifted robots pulled onto the truth by inter-robot loop closures, with
-// wrong ones rejected by GNC; mesh vertices carried along with their control points.
+// wrong ones rejected by GNC; ties only between what a robot made about the same time.
 
 #include <gtest/gtest.h>
 
@@ -361,77 +361,6 @@ TEST(DeformationGraph, MeshTiesAcrossARevisitDoNotHoldTheDrift) {
   const auto [worst_keyframe_any_age, place_error_any_age] = errors(0.0);
   EXPECT_GT(worst_keyframe_any_age, 0.3);
   EXPECT_GT(place_error_any_age, 0.3);
-}
-
-// Vertices follow their control points: a rigid motion of all of them moves the vertices by it;
-// no motion leaves them in place.
-TEST(DeformationGraph, MeshFollowsControlPoints) {
-  std::vector<Eigen::Isometry3d> initial;
-  for (int x = 0; x < 5; ++x)
-    for (int y = 0; y < 5; ++y) {
-      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-      T.translation() << x, y, 0.0;
-      initial.push_back(T);
-    }
-  std::vector<MeshVertex> vertices(3);
-  vertices[0].position = Eigen::Vector3f(1.3f, 2.2f, 0.4f);
-  vertices[1].position = Eigen::Vector3f(3.9f, 0.1f, -0.2f);
-  vertices[2].position = Eigen::Vector3f(2.0f, 2.0f, 0.0f);
-  const std::vector<int64_t> times(initial.size(), 0);
-  std::vector<MeshVertex> same = vertices;
-  deformMesh(same, initial, initial, times, 10.0);
-  for (size_t i = 0; i < vertices.size(); ++i)
-    EXPECT_LT((same[i].position - vertices[i].position).norm(), 1e-5);
-  Vector6d xi;
-  xi << 0.5, -0.2, 0.1, 0.0, 0.0, 0.3;
-  const Eigen::Isometry3d motion = expSE3(xi);
-  std::vector<Eigen::Isometry3d> moved;
-  for (const Eigen::Isometry3d& T : initial) moved.push_back(motion * T);
-  std::vector<MeshVertex> carried = vertices;
-  deformMesh(carried, initial, moved, times, 10.0);
-  for (size_t i = 0; i < vertices.size(); ++i) {
-    const Eigen::Vector3d expected = motion * vertices[i].position.cast<double>();
-    EXPECT_LT((carried[i].position.cast<double>() - expected).norm(), 1e-5);
-  }
-}
-
-// Two passes of one robot over the same place, each with its control points, moved differently by
-// the solve: a vertex moves with the control points of its own pass, made within the window of
-// its time, though the other pass's lie as near.
-TEST(DeformationGraph, MeshVerticesFollowTheControlPointsOfTheirTime) {
-  constexpr int64_t kS = 1000000000;
-  std::vector<Eigen::Isometry3d> initial, optimized;
-  std::vector<int64_t> times;
-  const Eigen::Isometry3d first_motion(Eigen::Translation3d(0.5, 0.0, 0.0));
-  const Eigen::Isometry3d second_motion(Eigen::Translation3d(0.0, -0.8, 0.0));
-  for (int pass = 0; pass < 2; ++pass) {
-    for (int x = 0; x < 4; ++x) {
-      for (int y = 0; y < 4; ++y) {
-        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-        T.translation() << x + 0.05 * pass, y, 0.0;
-        initial.push_back(T);
-        optimized.push_back((pass == 0 ? first_motion : second_motion) * T);
-        times.push_back(pass == 0 ? 5 * kS : 200 * kS);
-      }
-    }
-  }
-  MeshVertex vertex;
-  vertex.position = Eigen::Vector3f(1.4f, 1.6f, 0.2f);
-  for (const auto& [time, motion] :
-       {std::pair<int64_t, Eigen::Isometry3d>{3 * kS, first_motion}, {205 * kS, second_motion}}) {
-    std::vector<MeshVertex> vertices = {vertex};
-    vertices[0].time_ns = time;
-    deformMesh(vertices, initial, optimized, times, 10.0);
-    const Eigen::Vector3d expected = motion * vertex.position.cast<double>();
-    EXPECT_LT((vertices[0].position.cast<double>() - expected).norm(), 1e-5);
-  }
-  // Without the window the two passes' motions blend.
-  std::vector<MeshVertex> blended = {vertex};
-  blended[0].time_ns = 205 * kS;
-  deformMesh(blended, initial, optimized, times, 0.0);
-  EXPECT_GT(
-      (blended[0].position.cast<double>() - second_motion * vertex.position.cast<double>()).norm(),
-      0.1);
 }
 
 // An object is of the time of its vertices (the median), not of its last update: seen on a first

@@ -99,6 +99,9 @@ struct BackendRoundReport {
   /// Poses the whole-graph solve moved (DeformationGraphOptions::local_whole_graph: those near
   /// what changed since the last round; else all).
   size_t whole_graph_free = 0;
+  /// Mesh vertices bound to their control points and blended anew by the round (MeshBinding; the
+  /// others kept from the last round), of mesh_vertices.
+  size_t mesh_vertices = 0, vertices_bound = 0, vertices_blended = 0;
   bool from_scratch = false;  ///< the round took nothing from the last one
 };
 
@@ -211,6 +214,7 @@ class Backend {
   std::map<RobotId, Eigen::Isometry3d> last_alignment_;
   std::map<std::pair<NodeId, NodeId>, bool> last_verdicts_;
   mutable IcpCache icp_cache_;  // ICP's verdicts on object pairs, for incremental rounds
+  std::map<RobotId, MeshBinding> mesh_bindings_;  // each robot's mesh, for incremental rounds
 };
 
 }  // namespace hydra_multi

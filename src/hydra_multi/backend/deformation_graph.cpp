@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <limits>
 #include <optional>
@@ -398,34 +399,6 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
   result.whole_graph_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - whole_start).count();
   return result;
-}
-
-void deformMesh(std::vector<MeshVertex>& vertices, const std::vector<Eigen::Isometry3d>& initial,
-                const std::vector<Eigen::Isometry3d>& optimized,
-                const std::vector<int64_t>& times_ns, double window_s, size_t k) {
-  if (initial.empty() || initial.size() != optimized.size() || initial.size() != times_ns.size() ||
-      k == 0)
-    return;
-  std::vector<Eigen::Vector3d> centres;
-  for (const Eigen::Isometry3d& T : initial) centres.push_back(T.translation());
-  const TimedNeighbors index(centres, times_ns, windowNs(window_s));
-  for (MeshVertex& vertex : vertices) {
-    const Eigen::Vector3d v = vertex.position.cast<double>();
-    const auto nearest = index.nearest(v, vertex.time_ns, k + 1);
-    // d_max: the (k+1)-th neighbour's distance, so the k nearest all weigh more than zero.
-    const double d_max =
-        nearest.size() > k ? nearest[k].distance : nearest.back().distance * 1.01 + 1e-9;
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    double total = 0.0;
-    for (size_t j = 0; j < nearest.size() && j < k; ++j) {
-      const size_t c = nearest[j].index;
-      const double w = std::max(1e-9, 1.0 - nearest[j].distance / std::max(d_max, 1e-9));
-      const Eigen::Matrix3d R = optimized[c].linear() * initial[c].linear().transpose();
-      sum += w * (R * (v - initial[c].translation()) + optimized[c].translation());
-      total += w;
-    }
-    vertex.position = (sum / total).cast<float>();
-  }
 }
 
 }  // namespace hydra_multi

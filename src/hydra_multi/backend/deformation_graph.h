@@ -22,10 +22,7 @@
 // information", "GNC on the skeleton, then the whole graph once", "The whole-graph solve moves
 // only what changed".
 //
-// After the solve, mesh vertices move with their k nearest control points (deformMesh):
-//   v' = sum_j w_j (R_j R0_j^T (v - g_j) + t_j) / sum_j w_j,   w_j = 1 - d_j / d_max,
-// with g_j, R0_j a control point's initial position and rotation, (R_j, t_j) its optimized pose,
-// and d_max the distance to the (k+1)-th nearest control point.
+// After the solve, the mesh moves with its control points (mesh_deformation.h).
 
 #include <map>
 #include <set>
@@ -135,13 +132,6 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
                                            const DeformationGraphOptions& options = {},
                                            const std::set<std::pair<NodeId, NodeId>>& held_out = {},
                                            const DeformationWarmStart* warm = nullptr);
-
-/// Moves mesh vertices (global frame, before optimization) with their k nearest control points
-/// among those made within `window_s` of the vertex (TimedNeighbors; <= 0: any): `initial` and
-/// `optimized` poses of the control points, `times_ns` when the robot made each.
-void deformMesh(std::vector<MeshVertex>& vertices, const std::vector<Eigen::Isometry3d>& initial,
-                const std::vector<Eigen::Isometry3d>& optimized,
-                const std::vector<int64_t>& times_ns, double window_s, size_t k = 4);
 
 /// Nanoseconds of a window in seconds (<= 0: none).
 inline int64_t windowNs(double seconds) {

@@ -1,5 +1,6 @@
 #include "hydra_multi/backend/optimized_map.h"
 
+#include <algorithm>
 #include <limits>
 
 #include "hydra_multi/core/nearest_neighbors.h"
@@ -11,13 +12,23 @@ SceneGraph optimizedMap(const SceneGraph& frontend,
                         const DeformationGraph& deformation,
                         const std::map<NodeId, Eigen::Isometry3d>& poses,
                         const DeformationGraphOptions& options, size_t mesh_neighbours,
-                        std::map<RobotId, Eigen::Isometry3d>* first_keyframes) {
+                        std::map<RobotId, Eigen::Isometry3d>* first_keyframes,
+                        std::map<RobotId, MeshBinding>* bindings) {
   SceneGraph graph;
   if (first_keyframes != nullptr) first_keyframes->clear();
+  if (bindings != nullptr) {
+    // Robots no longer aligned leave.
+    for (auto it = bindings->begin(); it != bindings->end();) {
+      const bool aligned = std::any_of(robots.begin(), robots.end(),
+                                       [&](const auto& r) { return r.robot == it->first; });
+      it = aligned ? std::next(it) : bindings->erase(it);
+    }
+  }
   for (const RobotDeformationInput& robot : robots) {
     const Eigen::Isometry3d& T = robot.T_global_robot;
     // Control points before and after, for the mesh and for objects without vertices.
     std::vector<Eigen::Isometry3d> cp_initial, cp_optimized;
+    std::vector<Eigen::Vector3d> cp_local;
     std::vector<int64_t> cp_times;
     if (robot.control_points != nullptr) {
       for (const ControlPoint& cp : *robot.control_points) {
@@ -27,18 +38,28 @@ SceneGraph optimizedMap(const SceneGraph& frontend,
         if (a == deformation.initial.end() || b == poses.end()) continue;
         cp_initial.push_back(a->second);
         cp_optimized.push_back(b->second);
+        cp_local.push_back(cp.position);
         cp_times.push_back(cp.time_ns);
       }
     }
-    // The mesh: aligned, then deformed.
+    // The mesh: aligned, then deformed (bound in the robot's frame, kept when `bindings`).
     std::vector<MeshVertex> before, after;
     if (robot.mesh != nullptr) {
+      std::vector<Eigen::Vector3f> aligned;
+      aligned.reserve(robot.mesh->vertices.size());
       for (MeshVertex v : robot.mesh->vertices) {
         v.position = (T * v.position.cast<double>()).cast<float>();
+        aligned.push_back(v.position);
         before.push_back(v);
       }
+      MeshBinding fresh;
+      MeshBinding& binding = bindings != nullptr ? (*bindings)[robot.robot] : fresh;
+      bindMesh(binding, robot.mesh->vertices, cp_local, cp_times, options.link_max_dt_s,
+               mesh_neighbours);
+      const std::vector<Eigen::Vector3f> moved =
+          blendMesh(binding, aligned, cp_initial, cp_optimized);
       after = before;
-      deformMesh(after, cp_initial, cp_optimized, cp_times, options.link_max_dt_s, mesh_neighbours);
+      for (size_t i = 0; i < after.size(); ++i) after[i].position = moved[i];
     }
     std::vector<Eigen::Vector3d> cp_centres;
     for (const Eigen::Isometry3d& c : cp_initial) cp_centres.push_back(c.translation());
