@@ -212,6 +212,52 @@ TEST(SceneGraphProcessor, CorruptUpdateInARealStream) {
   }
 }
 
+// The deltas the processor applied, taken now and then and applied in order to a copy of its graph
+// as it was at the first take, give its graph: through two robots' interleaved streams with a
+// reordered pair, a refused update, the wait for a snapshot and the snapshot itself.
+TEST(SceneGraphProcessor, ItsDeltasKeepACopyOfItsGraph) {
+  auto dataset = sim::simulateDataset(sim::presetConfig("tiny", 2).value());
+  ASSERT_TRUE(dataset.ok());
+  const auto& streams = dataset.value().streams;
+  ASSERT_EQ(streams.size(), 2u);
+  ASSERT_GT(streams[0].size(), 8u);
+  SceneGraphProcessor processor;
+  SceneGraph copy;
+  std::vector<RobotUpdate> arrivals;
+  for (size_t i = 0; i < std::max(streams[0].size(), streams[1].size()); ++i) {
+    for (const auto& stream : streams) {
+      if (i < stream.size()) arrivals.push_back(stream[i]);
+    }
+  }
+  std::swap(arrivals[6], arrivals[8]);                          // robot a's updates 3 and 4 swapped
+  arrivals[12].graph.nodes.back().position.x() = std::nan("");  // refused: robot a waits
+  RobotStreamState sent;  // robot a's, for the snapshot that recovers it
+  for (const RobotUpdate& u : streams[0]) ASSERT_TRUE(sent.add(u).ok());
+  // Deltas kept from the second arrival on: the copy starts from the graph then.
+  processor.process(arrivals[0]);
+  copy = processor.graph();
+  processor.keepDeltas();
+  size_t taken = 0, outcomes_refused = 0;
+  for (size_t i = 1; i < arrivals.size(); ++i) {
+    const UpdateReport report = processor.process(arrivals[i]);
+    outcomes_refused += report.outcome != UpdateOutcome::kApplied;
+    if (i % 5 == 0 || i + 1 == arrivals.size()) {
+      for (const GraphDelta& delta : processor.takeDeltas()) {
+        ASSERT_TRUE(applyDelta(copy, delta).ok());
+        ++taken;
+      }
+      EXPECT_EQ(copy, processor.graph()) << "after arrival " << i;
+    }
+  }
+  const UpdateReport recovered = processor.process(sent.snapshot());
+  ASSERT_EQ(recovered.outcome, UpdateOutcome::kApplied) << recovered.message;
+  for (const GraphDelta& delta : processor.takeDeltas()) ASSERT_TRUE(applyDelta(copy, delta).ok());
+  EXPECT_EQ(copy, processor.graph());
+  EXPECT_GT(outcomes_refused, 1u);  // the refused update, and robot a's after it
+  EXPECT_GT(taken, arrivals.size() / 2);
+  EXPECT_TRUE(processor.takeDeltas().empty());
+}
+
 void expectSameRobotState(const SceneGraphProcessor& a, const SceneGraphProcessor& b,
                           RobotId robot) {
   EXPECT_EQ(a.graph(), b.graph());

@@ -254,6 +254,7 @@ Status SceneGraphProcessor::apply(RobotSlot& slot, const RobotUpdate& update,
                               new_keyframes.end());
   report.nodes_changed += delta.nodes.size();
   report.nodes_removed += delta.removed_nodes.size();
+  if (keep_deltas_) deltas_.push_back(std::move(delta));
   return Status::Ok();
 }
 

@@ -24,8 +24,10 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "hydra_multi/dsg/graph_delta.h"
 #include "hydra_multi/dsg/robot_update.h"
 #include "hydra_multi/dsg/scene_graph.h"
 #include "hydra_multi/dsg/update_sequencer.h"
@@ -86,6 +88,12 @@ class SceneGraphProcessor {
   UpdateCounts counts() const;
   using Counts = UpdateCounts;
 
+  /// Keeps every graph delta the processor applies from now on (station ids), for takeDeltas: a
+  /// copy of graph() follows it by applying them in order (applyDelta), without a copy of it.
+  void keepDeltas() { keep_deltas_ = true; }
+  /// The deltas applied since the last call (or keepDeltas), in order, and forgets them.
+  std::vector<GraphDelta> takeDeltas() { return std::exchange(deltas_, {}); }
+
  private:
   struct RobotSlot {
     RobotFrontendState state;
@@ -99,6 +107,8 @@ class SceneGraphProcessor {
   ProcessorOptions options_;
   Logger log_;
   SceneGraph graph_;
+  bool keep_deltas_ = false;
+  std::vector<GraphDelta> deltas_;  // applied since takeDeltas, with keep_deltas_
   std::map<RobotId, RobotSlot> robots_;
   size_t refused_without_robot_ = 0;  // updates whose robot id is not valid
 };

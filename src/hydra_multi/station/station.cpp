@@ -4,6 +4,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <deque>
+#include <iterator>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -22,9 +23,11 @@ double millisecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-// What the backend works on: a copy of the frontend's state.
+// What the backend works on: the frontend's state. Its graph as the deltas applied since the last
+// hand-off (the backend thread keeps its own copy up to date with them: no copy of the whole graph
+// stops the frontend), the rest copied.
 struct Snapshot {
-  SceneGraph graph;
+  std::vector<GraphDelta> deltas;
   std::map<RobotId, RobotFrontendState> robots;
   std::vector<PoseGraphEdge> inter_robot;
   std::vector<double> support;  ///< per inter-robot edge, for the alignment's consensus
@@ -34,10 +37,10 @@ struct Snapshot {
   bool last = false;  ///< the final state: its round starts from scratch
 };
 
-Snapshot takeSnapshot(const SceneGraphProcessor& processor, const LoopClosureDetector& detector,
+Snapshot takeSnapshot(SceneGraphProcessor& processor, const LoopClosureDetector& detector,
                       size_t after_update, RobotId root, const StationOptions& options) {
   Snapshot s;
-  s.graph = processor.graph();
+  s.deltas = processor.takeDeltas();
   for (const RobotId r : processor.robots()) {
     s.robots[r] = *processor.robot(r);
     RobotProgress& p = s.progress[r];
@@ -50,7 +53,7 @@ Snapshot takeSnapshot(const SceneGraphProcessor& processor, const LoopClosureDet
   if (options.loop_closure_filter) {
     std::vector<DetectedLoopClosure> kept;
     for (const DetectedLoopClosure& c : detector.loopClosures()) {
-      if (options.loop_closure_filter(c, s.graph)) kept.push_back(c);
+      if (options.loop_closure_filter(c, processor.graph())) kept.push_back(c);
     }
     s.inter_robot = interRobotEdges(kept);
     s.support = interRobotSupport(kept);
@@ -95,6 +98,7 @@ struct Station::Impl {
         processor(options.processor, [this](const std::string& line) { log(line); }),
         detector(options.detector),
         backend(options.backend) {
+    processor.keepDeltas();
     if (options.time_order_hold_s > 0.0)
       time_order.emplace(std::chrono::duration_cast<Clock::duration>(
                              std::chrono::duration<double>(options.time_order_hold_s)),
@@ -162,6 +166,7 @@ struct Station::Impl {
   std::condition_variable handoff_wake;
   std::optional<Snapshot> pending;
   bool backend_busy = false, backend_done = false;
+  SceneGraph frontend_graph;      // the backend thread's copy of the frontend's graph
   std::optional<RobotId> global;  // the robot whose frame the backend's graph is in
 
   StationResult result;
@@ -178,7 +183,7 @@ void Station::Impl::runRound(const Snapshot& s) {
   RoundTiming timing;
   timing.round = result.rounds.size();
   timing.after_update = s.after_update;
-  timing.report = backend.round(s.graph, robots, s.inter_robot, s.root, s.support, s.last);
+  timing.report = backend.round(frontend_graph, robots, s.inter_robot, s.root, s.support, s.last);
   result.rounds.push_back(timing);
   if (options.on_round) {
     options.on_round({backend.graph(), timing, backend.loopClosures(), backend.merges(),
@@ -218,6 +223,13 @@ void Station::Impl::backendLoop() {
       pending.reset();
       backend_busy = true;
     }
+    for (const GraphDelta& delta : s.deltas) {
+      // The frontend applied each to the same graph; failing here would be a station fault.
+      if (Status status = applyDelta(frontend_graph, delta); !status)
+        log("station: error: the backend's copy of the graph did not take a delta the frontend "
+            "applied (" +
+            status.message() + "); the round goes on without it");
+    }
     runRound(s);
     std::lock_guard<std::mutex> lock(handoff_mutex);
     backend_busy = false;
@@ -230,6 +242,10 @@ void Station::Impl::handOff(size_t after_update, bool last) {
   s.last = last;
   {
     std::lock_guard<std::mutex> lock(handoff_mutex);
+    if (pending) {  // not taken yet: its deltas go first
+      s.deltas.insert(s.deltas.begin(), std::make_move_iterator(pending->deltas.begin()),
+                      std::make_move_iterator(pending->deltas.end()));
+    }
     pending = std::move(s);
   }
   handoff_wake.notify_one();
