@@ -212,9 +212,10 @@ TEST(SceneGraphProcessor, CorruptUpdateInARealStream) {
   }
 }
 
-// The deltas the processor applied, taken now and then and applied in order to a copy of its graph
-// as it was at the first take, give its graph: through two robots' interleaved streams with a
-// reordered pair, a refused update, the wait for a snapshot and the snapshot itself.
+// The changes the processor applied, taken now and then and applied in order to a copy of its graph
+// and robots' states as they were at the first take, give its graph and states: through two robots'
+// interleaved streams with a reordered pair, a refused update, the wait for a snapshot and the
+// snapshot itself.
 TEST(SceneGraphProcessor, ItsDeltasKeepACopyOfItsGraph) {
   auto dataset = sim::simulateDataset(sim::presetConfig("tiny", 2).value());
   ASSERT_TRUE(dataset.ok());
@@ -236,23 +237,44 @@ TEST(SceneGraphProcessor, ItsDeltasKeepACopyOfItsGraph) {
   // Deltas kept from the second arrival on: the copy starts from the graph then.
   processor.process(arrivals[0]);
   copy = processor.graph();
+  std::map<RobotId, RobotFrontendState> states;
+  for (const RobotId r : processor.robots()) states[r] = *processor.robot(r);
   processor.keepDeltas();
+  // The robots' states but the descriptors (the detector's).
+  const auto expectSameStates = [&] {
+    for (const RobotId r : processor.robots()) {
+      const RobotFrontendState& a = *processor.robot(r);
+      const RobotFrontendState& b = states[r];
+      EXPECT_EQ(a.mesh, b.mesh) << r.str();
+      EXPECT_EQ(a.pose_graph, b.pose_graph) << r.str();
+      EXPECT_EQ(a.control_points, b.control_points) << r.str();
+      EXPECT_EQ(a.control_point_edges, b.control_point_edges) << r.str();
+      EXPECT_EQ(a.last_time_ns, b.last_time_ns) << r.str();
+      EXPECT_EQ(a.provided_layers, b.provided_layers) << r.str();
+    }
+  };
   size_t taken = 0, outcomes_refused = 0;
   for (size_t i = 1; i < arrivals.size(); ++i) {
     const UpdateReport report = processor.process(arrivals[i]);
     outcomes_refused += report.outcome != UpdateOutcome::kApplied;
     if (i % 5 == 0 || i + 1 == arrivals.size()) {
-      for (const GraphDelta& delta : processor.takeDeltas()) {
-        ASSERT_TRUE(applyDelta(copy, delta).ok());
+      for (const AppliedDelta& delta : processor.takeDeltas()) {
+        ASSERT_TRUE(applyDelta(copy, delta.graph).ok());
+        applyStateDelta(states[delta.robot.robot], delta.robot);
         ++taken;
       }
       EXPECT_EQ(copy, processor.graph()) << "after arrival " << i;
+      expectSameStates();
     }
   }
   const UpdateReport recovered = processor.process(sent.snapshot());
   ASSERT_EQ(recovered.outcome, UpdateOutcome::kApplied) << recovered.message;
-  for (const GraphDelta& delta : processor.takeDeltas()) ASSERT_TRUE(applyDelta(copy, delta).ok());
+  for (const AppliedDelta& delta : processor.takeDeltas()) {
+    ASSERT_TRUE(applyDelta(copy, delta.graph).ok());
+    applyStateDelta(states[delta.robot.robot], delta.robot);
+  }
   EXPECT_EQ(copy, processor.graph());
+  expectSameStates();
   EXPECT_GT(outcomes_refused, 1u);  // the refused update, and robot a's after it
   EXPECT_GT(taken, arrivals.size() / 2);
   EXPECT_TRUE(processor.takeDeltas().empty());

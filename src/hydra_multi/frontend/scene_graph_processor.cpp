@@ -227,35 +227,50 @@ Status SceneGraphProcessor::apply(RobotSlot& slot, const RobotUpdate& update,
   if (Status status = applyDelta(graph_, delta); !status)
     return Error{at + ": " + status.message()};
 
-  if (snapshot) {
-    state.mesh = Mesh();
-    state.pose_graph.clear();
-    state.control_points.clear();
-    state.control_point_edges.clear();
-    state.descriptors.clear();
-  }
-  state.mesh.vertices.resize(mesh.vertex_start);
-  state.mesh.vertices.insert(state.mesh.vertices.end(), mesh.vertices.begin(), mesh.vertices.end());
-  state.mesh.faces.resize(mesh.face_start);
-  state.mesh.faces.insert(state.mesh.faces.end(), mesh.faces.begin(), mesh.faces.end());
-  state.pose_graph.insert(state.pose_graph.end(), pose_graph.begin(), pose_graph.end());
-  state.control_points.insert(state.control_points.end(), points.begin(), points.end());
-  state.control_point_edges.insert(state.control_point_edges.end(),
-                                   update.deformation.edges.begin(),
-                                   update.deformation.edges.end());
+  RobotStateDelta changed;
+  changed.robot = robot;
+  changed.snapshot = snapshot;
+  changed.mesh = mesh;
+  changed.pose_graph = std::move(pose_graph);
+  changed.control_points = std::move(points);
+  changed.control_point_edges = update.deformation.edges;
+  changed.time_ns = update.time_ns;
+  changed.provided_layers = update.provided_layers;
+  applyStateDelta(state, changed);
+  if (snapshot) state.descriptors.clear();
   for (KeyframeDescriptor& d : descriptors) state.descriptors[d.keyframe] = std::move(d);
   // Descriptors of keyframes gone (a snapshot removes and re-sends the robot's nodes: only those it
   // does not re-send are gone).
   for (const NodeId id : removed)
     if (!added.count(id)) state.descriptors.erase(id);
-  state.last_time_ns = update.time_ns;
-  state.provided_layers = update.provided_layers;
   report.new_keyframes.insert(report.new_keyframes.end(), new_keyframes.begin(),
                               new_keyframes.end());
   report.nodes_changed += delta.nodes.size();
   report.nodes_removed += delta.removed_nodes.size();
-  if (keep_deltas_) deltas_.push_back(std::move(delta));
+  if (keep_deltas_) deltas_.push_back({std::move(delta), std::move(changed)});
   return Status::Ok();
+}
+
+void applyStateDelta(RobotFrontendState& state, const RobotStateDelta& delta) {
+  if (delta.snapshot) {
+    state.mesh = Mesh();
+    state.pose_graph.clear();
+    state.control_points.clear();
+    state.control_point_edges.clear();
+  }
+  const MeshDelta& mesh = delta.mesh;
+  state.mesh.vertices.resize(mesh.vertex_start);
+  state.mesh.vertices.insert(state.mesh.vertices.end(), mesh.vertices.begin(), mesh.vertices.end());
+  state.mesh.faces.resize(mesh.face_start);
+  state.mesh.faces.insert(state.mesh.faces.end(), mesh.faces.begin(), mesh.faces.end());
+  state.pose_graph.insert(state.pose_graph.end(), delta.pose_graph.begin(), delta.pose_graph.end());
+  state.control_points.insert(state.control_points.end(), delta.control_points.begin(),
+                              delta.control_points.end());
+  state.control_point_edges.insert(state.control_point_edges.end(),
+                                   delta.control_point_edges.begin(),
+                                   delta.control_point_edges.end());
+  state.last_time_ns = delta.time_ns;
+  state.provided_layers = delta.provided_layers;
 }
 
 }  // namespace hydra_multi

@@ -59,6 +59,28 @@ struct RobotFrontendState {
   RobotId frame;  ///< the frame its nodes are in: its own until the backend aligns it
 };
 
+/// What one applied update changed of its robot's state beside the graph (all of
+/// RobotFrontendState but the descriptors, which are the detector's), in station ids.
+struct RobotStateDelta {
+  RobotId robot;
+  bool snapshot = false;  ///< the robot's state starts afresh
+  MeshDelta mesh;         ///< the robot's own mesh
+  std::vector<PoseGraphEdge> pose_graph;
+  std::vector<ControlPoint> control_points;
+  std::vector<ControlPointEdge> control_point_edges;
+  int64_t time_ns = 0;
+  uint32_t provided_layers = 0;
+};
+
+/// Applies a robot's state delta (the processor's own way of changing that state).
+void applyStateDelta(RobotFrontendState& state, const RobotStateDelta& delta);
+
+/// An applied update's changes: to the graph and to its robot's state.
+struct AppliedDelta {
+  GraphDelta graph;
+  RobotStateDelta robot;
+};
+
 class SceneGraphProcessor {
  public:
   using Logger = std::function<void(const std::string&)>;
@@ -88,11 +110,13 @@ class SceneGraphProcessor {
   UpdateCounts counts() const;
   using Counts = UpdateCounts;
 
-  /// Keeps every graph delta the processor applies from now on (station ids), for takeDeltas: a
-  /// copy of graph() follows it by applying them in order (applyDelta), without a copy of it.
+  /// Keeps the changes of every update the processor applies from now on (station ids), for
+  /// takeDeltas: a copy of graph() and of the robots' states follows it by applying them in order
+  /// (applyDelta, applyStateDelta; a robot's state new to the copy starts in its own frame),
+  /// without a copy of either.
   void keepDeltas() { keep_deltas_ = true; }
-  /// The deltas applied since the last call (or keepDeltas), in order, and forgets them.
-  std::vector<GraphDelta> takeDeltas() { return std::exchange(deltas_, {}); }
+  /// The changes applied since the last call (or keepDeltas), in order, and forgets them.
+  std::vector<AppliedDelta> takeDeltas() { return std::exchange(deltas_, {}); }
 
  private:
   struct RobotSlot {
@@ -108,7 +132,7 @@ class SceneGraphProcessor {
   Logger log_;
   SceneGraph graph_;
   bool keep_deltas_ = false;
-  std::vector<GraphDelta> deltas_;  // applied since takeDeltas, with keep_deltas_
+  std::vector<AppliedDelta> deltas_;  // applied since takeDeltas, with keep_deltas_
   std::map<RobotId, RobotSlot> robots_;
   size_t refused_without_robot_ = 0;  // updates whose robot id is not valid
 };

@@ -23,12 +23,12 @@ double millisecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-// What the backend works on: the frontend's state. Its graph as the deltas applied since the last
-// hand-off (the backend thread keeps its own copy up to date with them: no copy of the whole graph
-// stops the frontend), the rest copied.
+// What the backend works on: the frontend's state, as the changes applied since the last hand-off
+// (the backend thread keeps its own copy of the graph and the robots' states up to date with
+// them: no copy of the whole state stops the frontend).
 struct Snapshot {
-  std::vector<GraphDelta> deltas;
-  std::map<RobotId, RobotFrontendState> robots;
+  std::vector<AppliedDelta> deltas;
+  std::vector<RobotId> robots;  ///< every robot the frontend has heard of
   std::vector<PoseGraphEdge> inter_robot;
   std::vector<double> support;  ///< per inter-robot edge, for the alignment's consensus
   size_t after_update = 0;
@@ -42,9 +42,9 @@ Snapshot takeSnapshot(SceneGraphProcessor& processor, const LoopClosureDetector&
   Snapshot s;
   s.deltas = processor.takeDeltas();
   for (const RobotId r : processor.robots()) {
-    s.robots[r] = *processor.robot(r);
+    s.robots.push_back(r);
     RobotProgress& p = s.progress[r];
-    p.robot_time_ns = s.robots[r].last_time_ns;
+    p.robot_time_ns = processor.robot(r)->last_time_ns;
     if (const UpdateSequencer* order = processor.order(r)) {
       p.applied = order->counts().appliedTotal();
       p.next_sequence = order->nextSequence();
@@ -166,7 +166,9 @@ struct Station::Impl {
   std::condition_variable handoff_wake;
   std::optional<Snapshot> pending;
   bool backend_busy = false, backend_done = false;
-  SceneGraph frontend_graph;      // the backend thread's copy of the frontend's graph
+  // The backend thread's copy of the frontend's graph and robots' states (Snapshot).
+  SceneGraph frontend_graph;
+  std::map<RobotId, RobotFrontendState> frontend_robots;
   std::optional<RobotId> global;  // the robot whose frame the backend's graph is in
 
   StationResult result;
@@ -176,7 +178,7 @@ struct Station::Impl {
 
 void Station::Impl::runRound(const Snapshot& s) {
   std::vector<BackendRobot> robots;
-  for (const auto& [robot, state] : s.robots) {
+  for (const auto& [robot, state] : frontend_robots) {
     robots.push_back(
         {robot, &state.pose_graph, &state.control_points, &state.control_point_edges, &state.mesh});
   }
@@ -223,12 +225,16 @@ void Station::Impl::backendLoop() {
       pending.reset();
       backend_busy = true;
     }
-    for (const GraphDelta& delta : s.deltas) {
+    for (const RobotId robot : s.robots) {
+      if (!frontend_robots.count(robot)) frontend_robots[robot].frame = robot;
+    }
+    for (const AppliedDelta& delta : s.deltas) {
       // The frontend applied each to the same graph; failing here would be a station fault.
-      if (Status status = applyDelta(frontend_graph, delta); !status)
+      if (Status status = applyDelta(frontend_graph, delta.graph); !status)
         log("station: error: the backend's copy of the graph did not take a delta the frontend "
             "applied (" +
             status.message() + "); the round goes on without it");
+      applyStateDelta(frontend_robots[delta.robot.robot], delta.robot);
     }
     runRound(s);
     std::lock_guard<std::mutex> lock(handoff_mutex);
