@@ -4,8 +4,10 @@
 // the frontend thread takes them in arrival order (or, with `time_order_hold_s`, in robot-time
 // order: time_order.h) through the scene-graph processor and the
 // loop-closure detector, timed; whenever the backend thread is idle and the frontend has news,
-// the frontend hands it a snapshot of its state (graph, per-robot pose graphs, control points,
-// meshes, inter-robot loop closures) and goes on; the backend runs a round on it (backend.h). The
+// the frontend hands it what changed of its state since the last hand-off (graph deltas, each
+// robot's mesh, pose graph and control points added) with the inter-robot loop closures and goes
+// on; the backend thread brings its own copy of the state up to date with them and runs a round
+// on it (backend.h). The
 // frontend never waits for the backend. `finish` closes the input: the frontend works off the
 // queue, the detector describes the remaining keyframes and the backend runs one last round on
 // the final state, from scratch (Backend::round), so the final map is the same whenever the
@@ -71,7 +73,7 @@ struct UpdateTiming {
   int64_t time_ns = 0;
   double frontend_ms = 0.0;  ///< processing and detection
   double queue_ms = 0.0;     ///< waiting on the ingest queue before that
-  double handoff_ms = 0.0;   ///< copying the state for the backend (0 when none)
+  double handoff_ms = 0.0;   ///< handing the backend what changed (0 when none)
   size_t loop_closures = 0;  ///< found by this update
 };
 
