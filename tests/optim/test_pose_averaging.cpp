@@ -86,6 +86,50 @@ TEST(PoseAveraging, SupportOutweighsCount) {
   EXPECT_EQ(mismatched.error(), "pose averaging: 2 supports for 22 estimates");
 }
 
+// A robot pair's estimates arriving round after round, wrong clusters first and the right one
+// later, the support changing every round: the consensus with its tests kept from the last call
+// is the one made afresh, testing only the pairs with a new estimate; an earlier estimate changed
+// (a robot revised a keyframe) makes it test all again.
+TEST(PoseAveraging, AKeptConsensusIsAFreshOne) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const auto jitter = [&](const Eigen::Isometry3d& T) {
+    Vector6d xi;
+    xi << 0.15 * noise(rng), 0.15 * noise(rng), 0.05 * noise(rng), 0.01 * noise(rng),
+        0.01 * noise(rng), 0.02 * noise(rng);
+    return T * expSE3(xi);
+  };
+  const Eigen::Isometry3d truth = pose(12.0, -3.0, 0.4), wrong = pose(3.5, 0.0, 0.0) * truth;
+  PoseAveragingOptions options;
+  options.information.setZero();
+  options.information.diagonal() << 4.0, 4.0, 4.0, 400.0, 400.0, 400.0;
+  options.consensus = true;
+  std::vector<Eigen::Isometry3d> estimates;
+  ConsensusCache cache;
+  bool turned = false;  // the round whose answer differs from the one before
+  Eigen::Isometry3d last = Eigen::Isometry3d::Identity();
+  for (int round = 0; round < 8; ++round) {
+    for (int i = 0; i < 6; ++i)
+      estimates.push_back(jitter(round < 3 ? wrong : truth));
+    if (round == 5) estimates[4] = jitter(truth);  // revised
+    std::vector<double> support;
+    for (size_t k = 0; k < estimates.size(); ++k) support.push_back(unit(rng));
+    const size_t before = estimates.size() - 6;
+    const PoseAverage fresh = robustPoseAverage(estimates, options, support).value();
+    const PoseAverage kept = robustPoseAverage(estimates, options, support, &cache).value();
+    EXPECT_TRUE(kept.T.isApprox(fresh.T, 0.0)) << "round " << round;
+    EXPECT_EQ(kept.inliers, fresh.inliers) << "round " << round;
+    const size_t n = estimates.size();
+    EXPECT_EQ(cache.tested, round == 0 || round == 5 ? n * n : n * n - before * before)
+        << "round " << round;
+    if (round > 0 && !fresh.T.isApprox(last, 1e-6)) turned = true;
+    last = fresh.T;
+  }
+  EXPECT_TRUE(turned);  // the right cluster outgrew the wrong one on the way
+  EXPECT_LT((last.translation() - truth.translation()).norm(), 0.15);
+}
+
 // A square loop of 8 poses with exact odometry; one right and one wrong loop closure, both held
 // out of GNC: the right one fits the result and comes back, the wrong one stays out.
 TEST(RobustPoseGraph, HeldOutFactorsComeBackOnlyWhenTheyFit) {

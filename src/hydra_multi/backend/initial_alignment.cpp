@@ -38,8 +38,8 @@ const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
       if (weigh) edge_support.push_back(support[k]);
     }
   }
-  MultiRobotAlignment result =
-      alignRobotFrames(robots.size(), poses, robot_of, edges, 0, options_.alignment, edge_support);
+  MultiRobotAlignment result = alignRobotFrames(robots.size(), poses, robot_of, edges, 0,
+                                                options_.alignment, edge_support, &consensus_);
   // The preferred root aligned with the current one: the global frame moves to it, and every
   // frame kept or estimated, and the optimized poses compared below, are re-expressed there.
   std::map<RobotId, Eigen::Isometry3d> optimized = optimized_first_keyframes;

@@ -111,6 +111,8 @@ class InitialAlignment {
   std::map<RobotId, Tried> tried_;
   size_t root_changes_ = 0;
   std::map<std::pair<NodeId, NodeId>, bool> edge_inliers_;
+  /// Each robot pair's consensus tests, kept from round to round (ConsensusCache).
+  std::map<std::pair<size_t, size_t>, ConsensusCache> consensus_;
 };
 
 }  // namespace hydra_multi

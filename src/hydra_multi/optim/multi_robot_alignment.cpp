@@ -11,12 +11,12 @@ size_t MultiRobotAlignment::numAligned() const {
                                            [](const auto& T) { return T.has_value(); }));
 }
 
-MultiRobotAlignment alignRobotFrames(size_t num_robots,
-                                     const std::map<NodeId, Eigen::Isometry3d>& local_poses,
-                                     const std::unordered_map<NodeId, size_t>& robot_of,
-                                     const std::vector<PoseGraphEdge>& inter_robot_edges,
-                                     size_t root, const MultiRobotAlignmentOptions& options,
-                                     const std::vector<double>& edge_support) {
+MultiRobotAlignment alignRobotFrames(
+    size_t num_robots, const std::map<NodeId, Eigen::Isometry3d>& local_poses,
+    const std::unordered_map<NodeId, size_t>& robot_of,
+    const std::vector<PoseGraphEdge>& inter_robot_edges, size_t root,
+    const MultiRobotAlignmentOptions& options, const std::vector<double>& edge_support,
+    std::map<std::pair<size_t, size_t>, ConsensusCache>* consensus) {
   MultiRobotAlignment result;
   result.T_world_robot.resize(num_robots);
   result.edge_inlier.assign(inter_robot_edges.size(), false);
@@ -50,7 +50,8 @@ MultiRobotAlignment alignRobotFrames(size_t num_robots,
   }
   // eq. (2) per pair.
   for (const auto& [key, pair] : by_pair) {
-    auto average = robustPoseAverage(pair.estimates, options.averaging, pair.support);
+    auto average = robustPoseAverage(pair.estimates, options.averaging, pair.support,
+                                     consensus != nullptr ? &(*consensus)[key] : nullptr);
     if (!average) continue;
     RobotPairAlignment alignment;
     alignment.robot_a = key.first;

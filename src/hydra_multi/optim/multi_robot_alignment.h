@@ -50,13 +50,13 @@ struct MultiRobotAlignment {
 /// `local_poses`: every node's pose in its own robot's frame; `robot_of`: every node's robot
 /// (0..num_robots-1); `inter_robot_edges`: loop closures whose ends belong to different robots.
 /// The root robot defines the global frame. `edge_support` (empty: 1 each) weighs each edge in
-/// its pair's maximum consensus (robustPoseAverage).
-MultiRobotAlignment alignRobotFrames(size_t num_robots,
-                                     const std::map<NodeId, Eigen::Isometry3d>& local_poses,
-                                     const std::unordered_map<NodeId, size_t>& robot_of,
-                                     const std::vector<PoseGraphEdge>& inter_robot_edges,
-                                     size_t root = 0,
-                                     const MultiRobotAlignmentOptions& options = {},
-                                     const std::vector<double>& edge_support = {});
+/// its pair's maximum consensus (robustPoseAverage). `consensus` (when given) keeps each robot
+/// pair's consensus tests for the next call (ConsensusCache: the same result as without).
+MultiRobotAlignment alignRobotFrames(
+    size_t num_robots, const std::map<NodeId, Eigen::Isometry3d>& local_poses,
+    const std::unordered_map<NodeId, size_t>& robot_of,
+    const std::vector<PoseGraphEdge>& inter_robot_edges, size_t root = 0,
+    const MultiRobotAlignmentOptions& options = {}, const std::vector<double>& edge_support = {},
+    std::map<std::pair<size_t, size_t>, ConsensusCache>* consensus = nullptr);
 
 }  // namespace hydra_multi

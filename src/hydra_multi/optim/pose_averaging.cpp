@@ -26,7 +26,7 @@ Result<Eigen::Isometry3d> weightedPoseAverage(const std::vector<Eigen::Isometry3
 
 Result<PoseAverage> robustPoseAverage(const std::vector<Eigen::Isometry3d>& estimates,
                                       const PoseAveragingOptions& options,
-                                      const std::vector<double>& support) {
+                                      const std::vector<double>& support, ConsensusCache* cache) {
   if (estimates.empty()) return Error{"pose averaging: no estimates"};
   if (!support.empty() && support.size() != estimates.size())
     return Error{"pose averaging: " + std::to_string(support.size()) + " supports for " +
@@ -40,20 +40,44 @@ Result<PoseAverage> robustPoseAverage(const std::vector<Eigen::Isometry3d>& esti
   };
   if (options.consensus) {
     const double c2 = options.gnc.thresholdSq();
+    // Per estimate, the others within the threshold (kept from the cache while it holds).
+    ConsensusCache local;
+    ConsensusCache& kept = cache != nullptr ? *cache : local;
+    const size_t n = estimates.size();
+    size_t known = std::min(kept.estimates.size(), n);
+    if (kept.information != options.information || kept.threshold_sq != c2 ||
+        kept.estimates.size() > n)
+      known = 0;
+    for (size_t i = 0; i < known; ++i) {
+      if (kept.estimates[i].matrix() != estimates[i].matrix()) {
+        known = 0;
+        break;
+      }
+    }
+    kept.within.resize(known);
+    kept.within.resize(n);
+    kept.tested = 0;
+    for (size_t i = 0; i < n; ++i) {
+      for (size_t j = i < known ? known : 0; j < n; ++j) {
+        const double r2 = residual(estimates[i], estimates[j]);
+        ++kept.tested;
+        if (r2 <= c2) kept.within[i].emplace_back(static_cast<uint32_t>(j), r2);
+      }
+    }
+    kept.estimates = estimates;
+    kept.information = options.information;
+    kept.threshold_sq = c2;
     // The estimate with the most support within the threshold (ties: the most neighbours, then
     // the smaller spread).
     size_t best = 0, best_count = 0;
     double best_support = -1.0, best_spread = 0.0;
-    for (size_t i = 0; i < estimates.size(); ++i) {
+    for (size_t i = 0; i < n; ++i) {
       size_t count = 0;
       double spread = 0.0, sum = 0.0;
-      for (size_t j = 0; j < estimates.size(); ++j) {
-        const double r2 = residual(estimates[i], estimates[j]);
-        if (r2 <= c2) {
-          ++count;
-          spread += r2;
-          sum += weighted ? support[j] : 1.0;
-        }
+      for (const auto& [j, r2] : kept.within[i]) {
+        ++count;
+        spread += r2;
+        sum += weighted ? support[j] : 1.0;
       }
       if (sum > best_support ||
           (sum == best_support &&

@@ -42,12 +42,27 @@ Result<Eigen::Isometry3d> weightedPoseAverage(const std::vector<Eigen::Isometry3
                                               const std::vector<double>& weights,
                                               const Eigen::Isometry3d& start, int max_iterations);
 
+/// The maximum consensus's pairwise test kept from call to call on a list of estimates that grows
+/// (a robot pair's loop closures, round after round): the estimates as last seen and, per
+/// estimate, the others within the threshold of it (index, squared residual), in index order.
+/// Estimates appended since are tested against all; an earlier estimate changed (or other options)
+/// drops what was kept. The same result as without.
+struct ConsensusCache {
+  std::vector<Eigen::Isometry3d> estimates;
+  std::vector<std::vector<std::pair<uint32_t, double>>> within;
+  Matrix6d information = Matrix6d::Zero();
+  double threshold_sq = 0.0;
+  size_t tested = 0;  ///< pairs tested by the last call
+};
+
 /// eq. (2) with GNC-TLS (or maximum consensus, see options); fails with no estimates.
 /// `support` (maximum consensus only; empty: 1 each) is what each estimate is worth: the start is
 /// the estimate whose neighbours within the threshold have the most support in sum (ties: the
-/// most neighbours, then the smaller spread). Every support zero counts as none given.
+/// most neighbours, then the smaller spread). Every support zero counts as none given. `cache`
+/// (maximum consensus only) is read and updated.
 Result<PoseAverage> robustPoseAverage(const std::vector<Eigen::Isometry3d>& estimates,
                                       const PoseAveragingOptions& options = {},
-                                      const std::vector<double>& support = {});
+                                      const std::vector<double>& support = {},
+                                      ConsensusCache* cache = nullptr);
 
 }  // namespace hydra_multi
