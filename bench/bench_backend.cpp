@@ -195,19 +195,6 @@ int main(int argc, char** argv) {
     }
   }
   detector.flush(processor);
-  for (int rep = 0; rep < 3; ++rep) {
-    const auto c0 = std::chrono::steady_clock::now();
-    SceneGraph copy = processor.graph();
-    const auto c1 = std::chrono::steady_clock::now();
-    std::map<RobotId, RobotFrontendState> states;
-    for (const RobotId r : processor.robots()) states[r] = *processor.robot(r);
-    const auto c2 = std::chrono::steady_clock::now();
-    size_t mesh = 0, desc = 0;
-    for (auto& [r, st] : states) { mesh += st.mesh.vertices.size(); desc += st.descriptors.size(); }
-    std::printf("COPY graph %.1f ms (%zu nodes), robots %.1f ms (%zu vertices, %zu descriptors)\n",
-                std::chrono::duration<double, std::milli>(c1 - c0).count(), copy.numNodes(),
-                std::chrono::duration<double, std::milli>(c2 - c1).count(), mesh, desc);
-  }
   const double total_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf("%s: %zu updates, frontend %.1f s, %zu inter-robot loop closures\n", argv[1],

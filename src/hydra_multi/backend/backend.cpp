@@ -367,11 +367,7 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   std::map<RobotId, MeshBinding>& bindings = incremental() ? mesh_bindings_ : fresh;
   SceneGraph map = optimizedMap(frontend, team.inputs, graph, result.poses, options_.deformation,
                                 options_.mesh_neighbours, &optimized_first_keyframes_, &bindings);
-  for (const auto& [robot, binding] : bindings) {
-    report.mesh_vertices += binding.vertices.size();
-    report.vertices_bound += binding.bound;
-    report.vertices_blended += binding.reblended;
-  }
+  for (const auto& [robot, binding] : bindings) report.vertices_blended += binding.reblended;
   report.merges_proposed = proposals.candidates.size();
   MergeOutcome merged =
       mergeKept(map, frontend, proposals.candidates, result.robust_inlier, team.meshes,

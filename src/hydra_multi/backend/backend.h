@@ -99,9 +99,8 @@ struct BackendRoundReport {
   /// Poses the whole-graph solve moved (DeformationGraphOptions::local_whole_graph: those near
   /// what changed since the last round; else all).
   size_t whole_graph_free = 0;
-  /// Mesh vertices bound to their control points and blended anew by the round (MeshBinding; the
-  /// others kept from the last round), of mesh_vertices.
-  size_t mesh_vertices = 0, vertices_bound = 0, vertices_blended = 0;
+  /// Mesh vertices the round deformed anew (MeshBinding; the others kept from the last round).
+  size_t vertices_blended = 0;
   bool from_scratch = false;  ///< the round took nothing from the last one
 };
 

@@ -54,24 +54,20 @@ void bindMesh(MeshBinding& binding, const std::vector<MeshVertex>& vertices,
     const auto first = std::lower_bound(new_times.begin(), new_times.end(), t - window);
     return first == new_times.end() || *first > t + window;
   };
+  // Kept bindings stay where they are (a vertex keeps its index); the others are bound below.
   const size_t n = vertices.size();
-  std::vector<uint32_t> neighbours(n * k, 0);
-  std::vector<double> weights(n * k, 0.0);
-  std::vector<uint8_t> count(n, 0), window_moved(n, 0);
   std::vector<uint8_t> rebind(n, 0);
   binding.bound = 0;
   for (size_t i = 0; i < n; ++i) {
-    if (holds(i)) {
-      std::copy_n(binding.neighbours.begin() + static_cast<std::ptrdiff_t>(i * k), k,
-                  neighbours.begin() + static_cast<std::ptrdiff_t>(i * k));
-      std::copy_n(binding.weights.begin() + static_cast<std::ptrdiff_t>(i * k), k,
-                  weights.begin() + static_cast<std::ptrdiff_t>(i * k));
-      count[i] = binding.count[i];
-      window_moved[i] = binding.window_moved[i];
-    } else {
-      rebind[i] = 1;
-      ++binding.bound;
-    }
+    rebind[i] = !holds(i);
+    binding.bound += rebind[i];
+  }
+  binding.neighbours.resize(n * k);
+  binding.weights.resize(n * k);
+  binding.count.resize(n);
+  binding.window_moved.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    if (rebind[i]) binding.count[i] = binding.window_moved[i] = 0;  // none until bound below
   }
   if (binding.bound > 0 && !positions.empty() && k > 0) {
     const TimedNeighbors index(positions, times_ns, window);
@@ -89,15 +85,15 @@ void bindMesh(MeshBinding& binding, const std::vector<MeshVertex>& vertices,
       const size_t m = std::min(nearest.size(), k);
       for (size_t j = 0; j < m; ++j) {
         const double w = std::max(1e-9, 1.0 - nearest[j].distance / std::max(d_max, 1e-9));
-        neighbours[i * k + j] = static_cast<uint32_t>(nearest[j].index);
-        weights[i * k + j] = w;
+        binding.neighbours[i * k + j] = static_cast<uint32_t>(nearest[j].index);
+        binding.weights[i * k + j] = w;
         total += w;
       }
-      for (size_t j = 0; j < m; ++j) weights[i * k + j] /= total;
-      count[i] = static_cast<uint8_t>(m);
+      for (size_t j = 0; j < m; ++j) binding.weights[i * k + j] /= total;
+      binding.count[i] = static_cast<uint8_t>(m);
       if (window > 0) {
         const auto first = std::lower_bound(sorted_times.begin(), sorted_times.end(), t - window);
-        window_moved[i] = first == sorted_times.end() || *first > t + window;
+        binding.window_moved[i] = first == sorted_times.end() || *first > t + window;
       }
     }
   }
@@ -111,10 +107,6 @@ void bindMesh(MeshBinding& binding, const std::vector<MeshVertex>& vertices,
   binding.control_points = positions;
   binding.control_point_times = times_ns;
   binding.vertices = vertices;
-  binding.neighbours = std::move(neighbours);
-  binding.weights = std::move(weights);
-  binding.count = std::move(count);
-  binding.window_moved = std::move(window_moved);
 }
 
 std::vector<Eigen::Vector3f> blendMesh(MeshBinding& binding,
