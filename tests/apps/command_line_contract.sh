@@ -187,6 +187,7 @@ expect 2 "^hydra-multi: error: robot: --key requires --station-key" robot --data
 expect 2 "^hydra-multi: error: pgo: --seed applies to --outliers only" pgo --input "$G2O" --seed 3
 expect 2 "^hydra-multi: error: pgo: --linear-solver applies to --robust gnc only" pgo --input "$G2O" --linear-solver cg
 expect 2 "^hydra-multi: error: pgo: --gnc-inner-iterations applies to --robust gnc only" pgo --input "$G2O" --robust none --gnc-inner-iterations 5
+expect 2 "^hydra-multi: error: pgo: --keep-chains applies to --robust gnc only" pgo --input "$G2O" --keep-chains
 expect 2 "^hydra-multi: error: ate: --max-time-difference applies to --format tum only" ate --est "$FILE" --gt "$FILE" --max-time-difference 0.1
 
 echo "$checks checks, $numeric numeric options, $failures failures"

@@ -10,6 +10,7 @@ namespace {
 
 TEST(StationConfig, KeysSetOptions) {
   StationOptions options;
+  EXPECT_FALSE(options.backend.deformation.solver.reduce_chains);  // the station's default
   const Status s = applyStationConfig(R"({
       "loop_closures": {"object_ambiguity_ratio": 0, "object_rival_distance": 2.5,
                         "anchor_objects": false},
@@ -17,7 +18,8 @@ TEST(StationConfig, KeysSetOptions) {
                     "decline_refuted": false, "refuted_within_m": 2.5, "weigh_support": false},
       "deformation": {"two_stage": false, "final_iterations": 0, "mesh_variance": 0.001,
                       "gnc_mu_step": 2.0, "gnc_incremental_mu_step": 1, "link_max_dt_s": 0,
-                      "odometry_rotation_variance": 0.01},
+                      "odometry_rotation_variance": 0.01, "reduce_chains": true,
+                      "chain_min_share": 0.5},
       "reconciliation": {"enabled": false, "place_max_distance": 0.6, "label_votes": true,
                          "label_confusion": 0.2, "label_min_odds": 2},
       "rooms": {"enabled": false, "min_room_places": 4, "threshold_rule": "most",
@@ -41,6 +43,8 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_DOUBLE_EQ(options.backend.deformation.solver.incremental_mu_step, 1.0);
   EXPECT_DOUBLE_EQ(options.backend.deformation.link_max_dt_s, 0.0);
   EXPECT_DOUBLE_EQ(options.backend.deformation.odometry_rotation_variance, 0.01);
+  EXPECT_TRUE(options.backend.deformation.solver.reduce_chains);
+  EXPECT_DOUBLE_EQ(options.backend.deformation.solver.chain_min_share, 0.5);
   EXPECT_FALSE(options.backend.reconcile);
   EXPECT_DOUBLE_EQ(options.backend.reconciliation.place_max_distance, 0.6);
   EXPECT_TRUE(options.backend.reconciliation.label_votes);
@@ -69,6 +73,8 @@ TEST(StationConfig, ErrorsNameTheProblemAndChangeNothing) {
       {R"({"deformation": {"mesh_variance": -1}})",
        "deformation.mesh_variance: expected a number > 0"},
       {R"({"deformation": {"two_stage": 1}})", "deformation.two_stage: expected true or false"},
+      {R"({"deformation": {"chain_min_share": 1.5}})",
+       "deformation.chain_min_share: expected a number >= 0.0 and <= 1.0"},
       {R"({"deformation": {"gnc_incremental_mu_step": 0.5}})",
        "deformation.gnc_incremental_mu_step: expected a number >= 1"},
       {R"({"reconciliation": {"label_confusion": 0.5}})",

@@ -38,8 +38,9 @@ struct PgoOptions {
   size_t min_inliers = 5;    ///< k: inliers a robot pair needs to be aligned
   std::string linear_solver = "auto";  ///< auto | cholesky | cg (for the GNC solves)
   int gnc_inner_iterations = 3;        ///< LM iterations per GNC solve (0: up to 100)
-  std::string groundtruth;             ///< g2o/TORO file with the true poses (or edges to chain)
-  std::string output;                  ///< optimized graph as g2o
+  bool keep_chains = false;  ///< GNC over every pose, chains not reduced (RobustPgoOptions)
+  std::string groundtruth;   ///< g2o/TORO file with the true poses (or edges to chain)
+  std::string output;        ///< optimized graph as g2o
   bool json = false;
   bool skip_bad_lines = false;
   double tolerance = 1e-4;  ///< relative cost change that ends a solve

@@ -95,6 +95,9 @@ int main(int argc, char** argv) {
       cli.integer(pgo_cmd, "--gnc-inner-iterations", pgo.gnc_inner_iterations,
                   "Levenberg-Marquardt iterations per GNC solve (0: up to 100)", 0, 1000)
           ->capture_default_str();
+  CLI::Option* keep_chains = pgo_cmd->add_flag(
+      "--keep-chains", pgo.keep_chains,
+      "GNC solves over every pose instead of chains of two-edge poses reduced to one edge");
   cli.inputFile(pgo_cmd, "--groundtruth", pgo.groundtruth,
                 "true poses (g2o vertices or TORO edges)");
   cli.outputFile(pgo_cmd, "--output", pgo.output, "write the optimized graph (g2o)");
@@ -484,7 +487,7 @@ int main(int argc, char** argv) {
   // Options that would do nothing beside the others given: refused rather than ignored.
   if (*ate_cmd && max_time_difference->count() > 0 && ate.format != "tum")
     return cli.refuse("ate", "--max-time-difference applies to --format tum only");
-  for (const CLI::Option* gnc_only : {linear_solver, gnc_inner}) {
+  for (const CLI::Option* gnc_only : {linear_solver, gnc_inner, keep_chains}) {
     if (*pgo_cmd && gnc_only->count() > 0 && pgo.robust != "gnc")
       return cli.refuse("pgo", gnc_only->get_name() + " applies to --robust gnc only");
   }

@@ -253,6 +253,7 @@ int runPgo(const PgoOptions& o) {
   options.solver.function_tolerance = o.tolerance;
   options.solver.num_threads = o.threads;
   options.gnc_inner_iterations = o.gnc_inner_iterations;
+  options.reduce_chains = !o.keep_chains;
   if (o.linear_solver == "cg") options.cholesky_mflops_per_pose_limit = 0.0;
   if (o.linear_solver == "cholesky") options.cholesky_mflops_per_pose_limit = 1e300;
   if (!o.quiet)

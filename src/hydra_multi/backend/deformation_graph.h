@@ -63,7 +63,13 @@ struct DeformationGraphOptions {
   bool use_sent_information = false;
   double place_link_radius = 3.0;  ///< m: a place links to a control point this close, else
                                    ///< to its nearest keyframe
-  RobustPgoOptions solver;
+  /// Chains not reduced (RobustPgoOptions::reduce_chains): docs/DECISIONS.md "Chains solved as
+  /// one edge while GNC decides".
+  RobustPgoOptions solver = [] {
+    RobustPgoOptions options;
+    options.reduce_chains = false;
+    return options;
+  }();
   bool two_stage = true;  ///< GNC on the skeleton, then one solve of the whole graph
   /// Rotation variance of the odometry, in both solves (its translation's is odometry_variance).
   double odometry_rotation_variance = 1e-4;

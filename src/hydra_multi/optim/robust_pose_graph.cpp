@@ -4,15 +4,62 @@
 #include <chrono>
 #include <unordered_map>
 
+#include "hydra_multi/optim/pose_graph_chains.h"
+
 namespace hydra_multi {
 namespace {
 
 std::string seconds(double s) { return std::to_string(s) + " s"; }
 
-// The solve of optimizePoseGraph over a graph without leaves.
-RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
-                                      const std::map<NodeId, Eigen::Isometry3d>& initial,
-                                      NodeId anchor, const RobustPgoOptions& options) {
+// The edges of `graph` that `keep` says.
+PoseGraph subgraph(const PoseGraph& graph, const std::vector<bool>& keep) {
+  PoseGraph kept;
+  kept.edges.reserve(graph.edges.size());
+  for (size_t k = 0; k < graph.edges.size(); ++k) {
+    if (keep[k]) kept.edges.push_back(graph.edges[k]);
+  }
+  return kept;
+}
+
+// A problem made of some of a graph's edges (`kept`, by index) and `extra` ones after them: its
+// graph, and the options with each kept edge's held-out and known-inlier flags.
+struct SubProblem {
+  PoseGraph graph;
+  RobustPgoOptions options;
+};
+SubProblem subProblem(const PoseGraph& graph, const RobustPgoOptions& options,
+                      const std::vector<size_t>& kept,
+                      const std::vector<PoseGraphEdge>& extra = {}) {
+  SubProblem sub{{}, options};
+  sub.options.held_out.clear();
+  sub.options.known_inlier.clear();
+  sub.graph.edges.reserve(kept.size() + extra.size());
+  for (const size_t k : kept) {
+    sub.graph.edges.push_back(graph.edges[k]);
+    sub.options.held_out.push_back(k < options.held_out.size() && options.held_out[k]);
+    sub.options.known_inlier.push_back(k < options.known_inlier.size() && options.known_inlier[k]);
+  }
+  sub.graph.edges.insert(sub.graph.edges.end(), extra.begin(), extra.end());
+  return sub;
+}
+
+// The verdicts and weights of a sub-problem's result (subProblem) per edge of the graph of `edges`
+// edges: the kept edges' from the result, the others inliers at weight 1.
+void verdictsOfGraph(RobustPgoResult& result, const std::vector<size_t>& kept, size_t edges) {
+  std::vector<bool> edge_inlier(edges, true);
+  std::vector<double> edge_weight(edges, 1.0);
+  for (size_t r = 0; r < kept.size(); ++r) {
+    if (r < result.edge_inlier.size()) edge_inlier[kept[r]] = result.edge_inlier[r];
+    if (r < result.edge_weight.size()) edge_weight[kept[r]] = result.edge_weight[r];
+  }
+  result.edge_inlier = std::move(edge_inlier);
+  result.edge_weight = std::move(edge_weight);
+}
+
+// The solve of optimizePoseGraph over a graph without leaves, its chains reduced.
+RobustPgoResult optimizeReduced(const PoseGraph& graph,
+                                const std::map<NodeId, Eigen::Isometry3d>& initial, NodeId anchor,
+                                const RobustPgoOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   RobustPgoResult result;
   PoseGraphProblem problem(graph, initial, anchor, options.solver);
@@ -138,11 +185,7 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
       SolveSummary summary;
       if (conjugate_gradients) {
         // A problem over the inliers alone: the outliers' fill-in is what made GNC use CG.
-        PoseGraph inliers;
-        inliers.edges.reserve(graph.edges.size());
-        for (size_t k = 0; k < graph.edges.size(); ++k) {
-          if (result.edge_inlier[k]) inliers.edges.push_back(graph.edges[k]);
-        }
+        const PoseGraph inliers = subgraph(graph, result.edge_inlier);
         PoseGraphProblem polished(inliers, result.poses, anchor, options.solver);
         if (!options.constant.empty()) polished.holdConstant(options.constant);
         summary = polished.solve();
@@ -240,6 +283,52 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
   return result;
 }
 
+// The solve of optimizePoseGraph over a graph without leaves: its chains (pose_graph_chains.h)
+// reduced to one edge each, their interiors placed after, and then one solve of the whole graph
+// over the inliers from there.
+RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
+                                      const std::map<NodeId, Eigen::Isometry3d>& initial,
+                                      NodeId anchor, const RobustPgoOptions& options) {
+  if (!options.reduce_chains || !options.robust)
+    return optimizeReduced(graph, initial, anchor, options);
+  const auto start = std::chrono::steady_clock::now();
+  const ChainReduction reduction = findChains(graph, initial, anchor, options.constant);
+  size_t interior = 0;
+  for (const PoseGraphChain& chain : reduction.chains) interior += chain.interior.size();
+  if (interior == 0 || interior < options.chain_min_share * initial.size())
+    return optimizeReduced(graph, initial, anchor, options);
+
+  const SubProblem reduced = subProblem(graph, options, reduction.kept_edges, reduction.composed);
+  std::map<NodeId, Eigen::Isometry3d> reduced_initial = initial;
+  for (const PoseGraphChain& chain : reduction.chains) {
+    for (const NodeId id : chain.interior) reduced_initial.erase(id);
+  }
+  RobustPgoResult result = optimizeReduced(reduced.graph, reduced_initial, anchor, reduced.options);
+  placeChainInteriors(graph, reduction, result.poses);
+  if (!result.held_out_poses.empty()) placeChainInteriors(graph, reduction, result.held_out_poses);
+  verdictsOfGraph(result, reduction.kept_edges, graph.edges.size());
+
+  // The interiors sit at the first-order optimum; the solve over the inliers makes it exact.
+  PoseGraphProblem whole(subgraph(graph, result.edge_inlier), result.poses, anchor, options.solver);
+  if (!options.constant.empty()) whole.holdConstant(options.constant);
+  const SolveSummary summary = whole.solve();
+  result.poses = whole.poses();
+  result.solver_iterations += summary.iterations;
+  ++result.solves;
+  result.final_cost = summary.final_cost;
+  result.usable = result.usable && summary.usable;
+  result.message = summary.message;
+  if (options.progress) {
+    options.progress("solve of the " + std::to_string(reduction.chains.size()) +
+                     " chains' poses with the rest: " + std::to_string(summary.iterations) +
+                     " iterations in " + seconds(summary.time_s) + ", cost " +
+                     std::to_string(summary.initial_cost) + " -> " +
+                     std::to_string(summary.final_cost));
+  }
+  result.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
 }  // namespace
 
 RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
@@ -269,30 +358,16 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
   }
   if (leaf_edges.empty()) return optimizeWithoutLeaves(graph, initial, anchor, options);
 
-  PoseGraph reduced;
+  const SubProblem reduced = subProblem(graph, options, kept_edges);
   std::map<NodeId, Eigen::Isometry3d> reduced_initial = initial;
-  RobustPgoOptions reduced_options = options;
-  reduced_options.held_out.clear();
-  reduced_options.known_inlier.clear();
-  reduced.edges.reserve(kept_edges.size());
-  for (const size_t k : kept_edges) {
-    reduced.edges.push_back(graph.edges[k]);
-    reduced_options.held_out.push_back(k < options.held_out.size() && options.held_out[k]);
-    reduced_options.known_inlier.push_back(k < options.known_inlier.size() &&
-                                           options.known_inlier[k]);
-  }
   for (const size_t k : leaf_edges) {
     const PoseGraphEdge& e = graph.edges[k];
     reduced_initial.erase(isLeaf(e.to) ? e.to : e.from);
   }
-  RobustPgoResult result = optimizeWithoutLeaves(reduced, reduced_initial, anchor, reduced_options);
+  RobustPgoResult result =
+      optimizeWithoutLeaves(reduced.graph, reduced_initial, anchor, reduced.options);
+  verdictsOfGraph(result, kept_edges, graph.edges.size());
   // Each leaf where its edge puts it: that edge's residual is zero, the optimum's exactly.
-  std::vector<bool> edge_inlier(graph.edges.size(), true);
-  std::vector<double> edge_weight(graph.edges.size(), 1.0);
-  for (size_t r = 0; r < kept_edges.size(); ++r) {
-    if (r < result.edge_inlier.size()) edge_inlier[kept_edges[r]] = result.edge_inlier[r];
-    if (r < result.edge_weight.size()) edge_weight[kept_edges[r]] = result.edge_weight[r];
-  }
   for (const size_t k : leaf_edges) {
     const PoseGraphEdge& e = graph.edges[k];
     const auto at = [&](NodeId id) {
@@ -304,8 +379,6 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
     else
       result.poses[e.from] = at(e.to) * e.T_from_to.inverse();
   }
-  result.edge_inlier = std::move(edge_inlier);
-  result.edge_weight = std::move(edge_weight);
   result.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -63,6 +63,13 @@ struct RobustPgoOptions {
   std::map<NodeId, Eigen::Isometry3d> earlier_held_out, earlier_readmitted;
   /// Poses held where `initial` puts them, as the anchor: a local solve of the others.
   std::set<NodeId> constant;
+  /// In a robust solve whose poses are at least chain_min_share chain interiors (poses with two
+  /// edges, both known inliers), GNC and its polish run with each chain reduced to one composed
+  /// edge; the interiors are then placed and everything polished by one solve over the inliers
+  /// (pose_graph_chains.h). The result is that solve's optimum; GNC's decisions are taken on the
+  /// reduced graph. docs/DECISIONS.md: "Chains solved as one edge while GNC decides".
+  bool reduce_chains = true;
+  double chain_min_share = 0.3;
   /// Called after every solve with a one-line report (for progress output on long runs).
   std::function<void(const std::string&)> progress;
 };
