@@ -2,6 +2,7 @@
 
 #include <array>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "hydra_multi/core/se3.h"
 
@@ -64,7 +65,7 @@ ChainReduction findChains(const PoseGraph& graph,
   if (interior.empty()) return reduction;
 
   std::vector<bool> in_chain(graph.edges.size(), false);
-  std::unordered_map<NodeId, bool> placed;  // interior poses some chain holds
+  std::unordered_set<NodeId> placed;  // interior poses some chain holds
   const auto walk = [&](NodeId from, size_t first) {
     PoseGraphChain chain;
     chain.from = from;
@@ -83,7 +84,7 @@ ChainReduction findChains(const PoseGraph& graph,
         break;
       }
       chain.interior.push_back(next);
-      placed[next] = true;
+      placed.insert(next);
       k = it->second[0] == k ? it->second[1] : it->second[0];
       at = next;
     }

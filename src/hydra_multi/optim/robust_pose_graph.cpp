@@ -11,14 +11,21 @@ namespace {
 
 std::string seconds(double s) { return std::to_string(s) + " s"; }
 
-// The edges of `graph` that `keep` says.
-PoseGraph subgraph(const PoseGraph& graph, const std::vector<bool>& keep) {
-  PoseGraph kept;
-  kept.edges.reserve(graph.edges.size());
+// One solve, from `poses`, of a problem made of the edges of `graph` that `inlier` says (the
+// options' constant poses held); `poses` becomes its solution.
+SolveSummary solveOverInliers(const PoseGraph& graph, const std::vector<bool>& inlier,
+                              std::map<NodeId, Eigen::Isometry3d>& poses, NodeId anchor,
+                              const RobustPgoOptions& options) {
+  PoseGraph inliers;
+  inliers.edges.reserve(graph.edges.size());
   for (size_t k = 0; k < graph.edges.size(); ++k) {
-    if (keep[k]) kept.edges.push_back(graph.edges[k]);
+    if (inlier[k]) inliers.edges.push_back(graph.edges[k]);
   }
-  return kept;
+  PoseGraphProblem problem(inliers, poses, anchor, options.solver);
+  if (!options.constant.empty()) problem.holdConstant(options.constant);
+  const SolveSummary summary = problem.solve();
+  poses = problem.poses();
+  return summary;
 }
 
 // A problem made of some of a graph's edges (`kept`, by index) and `extra` ones after them: its
@@ -56,7 +63,7 @@ void verdictsOfGraph(RobustPgoResult& result, const std::vector<size_t>& kept, s
   result.edge_weight = std::move(edge_weight);
 }
 
-// The solve of optimizePoseGraph over a graph without leaves, its chains reduced.
+// The solve of optimizePoseGraph over a graph without leaves (and without chains, when reduced).
 RobustPgoResult optimizeReduced(const PoseGraph& graph,
                                 const std::map<NodeId, Eigen::Isometry3d>& initial, NodeId anchor,
                                 const RobustPgoOptions& options) {
@@ -185,11 +192,7 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
       SolveSummary summary;
       if (conjugate_gradients) {
         // A problem over the inliers alone: the outliers' fill-in is what made GNC use CG.
-        const PoseGraph inliers = subgraph(graph, result.edge_inlier);
-        PoseGraphProblem polished(inliers, result.poses, anchor, options.solver);
-        if (!options.constant.empty()) polished.holdConstant(options.constant);
-        summary = polished.solve();
-        result.poses = polished.poses();
+        summary = solveOverInliers(graph, result.edge_inlier, result.poses, anchor, options);
       } else {
         // GNC's problem, its analysis and factor kept, with the rejected at weight 0.
         const PoseGraphOptimizerOptions inner = problem.options();
@@ -309,10 +312,8 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
   verdictsOfGraph(result, reduction.kept_edges, graph.edges.size());
 
   // The interiors sit at the first-order optimum; the solve over the inliers makes it exact.
-  PoseGraphProblem whole(subgraph(graph, result.edge_inlier), result.poses, anchor, options.solver);
-  if (!options.constant.empty()) whole.holdConstant(options.constant);
-  const SolveSummary summary = whole.solve();
-  result.poses = whole.poses();
+  const SolveSummary summary =
+      solveOverInliers(graph, result.edge_inlier, result.poses, anchor, options);
   result.solver_iterations += summary.iterations;
   ++result.solves;
   result.final_cost = summary.final_cost;
