@@ -188,7 +188,7 @@ TEST_F(TinyTeam, IncrementalRoundsAgreeWithRoundsFromScratch) {
   SceneGraphProcessor processor;
   LoopClosureDetector detector;
   BackendRoundReport last_incremental, last_batch;
-  size_t rounds = 0, known_rounds = 0;
+  size_t rounds = 0, known_rounds = 0, admitted = 0;
   int solves_incremental = 0, solves_batch = 0;
   const auto round = [&] {
     const std::vector<BackendRobot> team = teamOf(processor);
@@ -197,6 +197,8 @@ TEST_F(TinyTeam, IncrementalRoundsAgreeWithRoundsFromScratch) {
     last_batch = batch.round(processor.graph(), team, inter, RobotId(0));
     ++rounds;
     known_rounds += last_incremental.verdicts_known > 0;
+    admitted += last_incremental.merges_admitted;  // new merges that fit the start: known
+    EXPECT_EQ(last_batch.merges_admitted, 0u);
     solves_incremental += last_incremental.solves;
     solves_batch += last_batch.solves;
     EXPECT_EQ(last_batch.verdicts_known, 0u);
@@ -211,6 +213,7 @@ TEST_F(TinyTeam, IncrementalRoundsAgreeWithRoundsFromScratch) {
   round();
   EXPECT_GE(rounds, 5u);
   EXPECT_GE(known_rounds, 2u);
+  EXPECT_GT(admitted, 0u);
   EXPECT_EQ(last_incremental.robots_aligned, 2u);
   EXPECT_EQ(incremental.loopClosureInliers(), batch.loopClosureInliers());
   EXPECT_LE(solves_incremental, solves_batch);  // tiny's GNC has nothing to reject either way

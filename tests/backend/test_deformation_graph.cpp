@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <memory>
 #include <random>
 #include <set>
 #include <string>
@@ -191,49 +192,71 @@ TEST(DeformationGraph, AWarmStartedRoundSolvesTheWholeGraphOnlyWhereItChanged) {
   EXPECT_LT(apart, 0.01);
 }
 
+// Robots a and b of the circle, true loop closures between them, and one object per robot beside
+// each of three places both pass, with a merge candidate joining each pair (`wrong` more: a's
+// object of the first place with b's of the second), as Backend::round's solve with merges has
+// them; `loop_closures` is the solve before it, without merges.
+struct ObjectsToMerge {
+  SceneGraph frontend;
+  Robot a, b;
+  Eigen::Isometry3d T_global_b;
+  std::vector<PoseGraphEdge> inter, merges;
+  DeformationResult loop_closures;
+  std::vector<RobotDeformationInput> inputs() const { return twoRobots(a, b, T_global_b); }
+};
+
+std::unique_ptr<ObjectsToMerge> objectsToMerge(const DeformationGraphOptions& skeleton,
+                                               bool wrong) {
+  auto s = std::make_unique<ObjectsToMerge>();
+  s->a = drive(RobotId(0), 0.0, 0.0, s->frontend);
+  s->b = drive(RobotId(1), M_PI, 0.005, s->frontend);
+  s->inter = trueClosures(s->a, s->b);
+  s->T_global_b = s->a.truth.front().inverse() * s->b.truth.front();
+  std::vector<std::pair<NodeId, NodeId>> pairs;
+  for (const size_t k : {9u, 21u, 45u}) {
+    const size_t kb = (k + 30) % 60;
+    const Eigen::Vector3d world = s->a.truth[k] * Eigen::Vector3d(0.0, 0.5, 0.0);
+    const NodeId oa = NodeId::station('O', s->a.id, k), ob = NodeId::station('O', s->b.id, kb);
+    Node na = makeNode(oa, Layer::kObjects, s->a.odom[k] * (s->a.truth[k].inverse() * world));
+    na.last_update_time_ns = static_cast<int64_t>(k) * 1000000000;
+    Node nb = makeNode(ob, Layer::kObjects, s->b.odom[kb] * (s->b.truth[kb].inverse() * world));
+    nb.last_update_time_ns = static_cast<int64_t>(kb) * 1000000000;
+    s->frontend.addOrUpdateNode(na);
+    s->frontend.addOrUpdateNode(nb);
+    pairs.push_back({oa, ob});
+  }
+  if (wrong) pairs.push_back({pairs[0].first, pairs[1].second});
+  for (const auto& [from, to] : pairs) {
+    PoseGraphEdge e;
+    e.from = from;
+    e.to = to;
+    e.information = Matrix6d::Identity();
+    s->merges.push_back(e);
+  }
+  s->loop_closures = optimizeDeformationGraph(
+      buildDeformationGraph(s->frontend, s->inputs(), s->inter, {}, skeleton), skeleton);
+  return s;
+}
+
 // The solve with merges after the loop closures' solve (Backend::round): objects that only the
 // merge candidates bring in are not in the earlier solve's poses. Each starts at its tie to its
 // keyframe, so the first solve, merges held out, starts at the earlier optimum: its cost does not
 // fall. (At its aligned frontend position robot b's drift would put each metres off.)
 TEST(DeformationGraph, ObjectsNewToTheSolveStartAtTheirKeyframe) {
-  SceneGraph frontend;
-  Robot a = drive(RobotId(0), 0.0, 0.0, frontend);
-  Robot b = drive(RobotId(1), M_PI, 0.005, frontend);
-  const std::vector<PoseGraphEdge> inter = trueClosures(a, b);
-  const Eigen::Isometry3d T_global_b = a.truth.front().inverse() * b.truth.front();
-  const std::vector<RobotDeformationInput> inputs = twoRobots(a, b, T_global_b);
-  // One object per robot beside each of three places both pass; a merge candidate joins them.
-  std::vector<PoseGraphEdge> merges;
-  for (const size_t k : {9u, 21u, 45u}) {
-    const size_t kb = (k + 30) % 60;
-    const Eigen::Vector3d world = a.truth[k] * Eigen::Vector3d(0.0, 0.5, 0.0);
-    const NodeId oa = NodeId::station('O', a.id, k), ob = NodeId::station('O', b.id, kb);
-    Node na = makeNode(oa, Layer::kObjects, a.odom[k] * (a.truth[k].inverse() * world));
-    na.last_update_time_ns = static_cast<int64_t>(k) * 1000000000;
-    Node nb = makeNode(ob, Layer::kObjects, b.odom[kb] * (b.truth[kb].inverse() * world));
-    nb.last_update_time_ns = static_cast<int64_t>(kb) * 1000000000;
-    frontend.addOrUpdateNode(na);
-    frontend.addOrUpdateNode(nb);
-    PoseGraphEdge e;
-    e.from = oa;
-    e.to = ob;
-    e.information = Matrix6d::Identity();
-    merges.push_back(e);
-  }
   DeformationGraphOptions skeleton;
   skeleton.final_iterations = 0;
-  const DeformationResult loop_closures = optimizeDeformationGraph(
-      buildDeformationGraph(frontend, inputs, inter, {}, skeleton), skeleton);
+  const auto s = objectsToMerge(skeleton, false);
   DeformationWarmStart warm;
-  warm.poses = loop_closures.poses;
-  warm.verdicts = loop_closures.robust_inlier;
-  const DeformationGraph graph = buildDeformationGraph(frontend, inputs, inter, merges, skeleton);
-  for (const PoseGraphEdge& e : merges) {
+  warm.poses = s->loop_closures.poses;
+  warm.verdicts = s->loop_closures.robust_inlier;
+  const DeformationGraph graph =
+      buildDeformationGraph(s->frontend, s->inputs(), s->inter, s->merges, skeleton);
+  for (const PoseGraphEdge& e : s->merges) {
     ASSERT_TRUE(graph.skeleton.poses.count(e.from) && graph.skeleton.poses.count(e.to));
     ASSERT_FALSE(warm.poses.count(e.from) || warm.poses.count(e.to));
   }
   std::set<std::pair<NodeId, NodeId>> held_out;
-  for (const PoseGraphEdge& e : merges) held_out.insert({e.from, e.to});
+  for (const PoseGraphEdge& e : s->merges) held_out.insert({e.from, e.to});
   std::vector<std::string> lines;
   skeleton.solver.progress = [&lines](const std::string& line) { lines.push_back(line); };
   optimizeDeformationGraph(graph, skeleton, held_out, &warm);
@@ -246,6 +269,35 @@ TEST(DeformationGraph, ObjectsNewToTheSolveStartAtTheirKeyframe) {
             2)
       << lines.front();
   EXPECT_LE(start, end * 1.01 + 1e-9) << lines.front();
+}
+
+// Merges new in an incremental round that fit the solve's start are known inliers there
+// (DeformationWarmStart::admit_if_fitting): no solve without them, nothing to take back after it.
+// A wrong one stays held out and rejected. The verdicts are those of holding all of them out.
+TEST(DeformationGraph, NewMergesThatFitTheStartAreKnown) {
+  DeformationGraphOptions skeleton;
+  skeleton.final_iterations = 0;
+  const auto s = objectsToMerge(skeleton, true);
+  const DeformationGraph graph =
+      buildDeformationGraph(s->frontend, s->inputs(), s->inter, s->merges, skeleton);
+  DeformationWarmStart warm;
+  warm.poses = s->loop_closures.poses;
+  warm.verdicts = s->loop_closures.robust_inlier;
+  std::set<std::pair<NodeId, NodeId>> held_out;
+  for (const PoseGraphEdge& e : s->merges) held_out.insert({e.from, e.to});
+  const DeformationResult all_held = optimizeDeformationGraph(graph, skeleton, held_out, &warm);
+  warm.admit_if_fitting = held_out;
+  const DeformationResult admitted = optimizeDeformationGraph(graph, skeleton, held_out, &warm);
+  EXPECT_EQ(all_held.admitted, 0u);
+  EXPECT_EQ(admitted.admitted, 3u);
+  EXPECT_EQ(admitted.robust_inlier, all_held.robust_inlier);
+  for (size_t i = 0; i < s->merges.size(); ++i) {
+    const bool inlier = admitted.robust_inlier.at({s->merges[i].from, s->merges[i].to});
+    EXPECT_EQ(inlier, i < 3) << "merge " << i;
+  }
+  EXPECT_FALSE(all_held.solve.held_out_poses.empty());  // the three taken back after a solve
+  EXPECT_TRUE(admitted.solve.held_out_poses.empty());
+  EXPECT_LT(admitted.solve.solves, all_held.solve.solves);
 }
 
 // A robot passes a corridor twice, and its odometry turned 3 degrees too little at the turn between

@@ -314,7 +314,8 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   report.factors = graph.graph.edges.size();
   report.build_s = lap();
 
-  // 3. The deformation graph with the merge factors, held out until they fit.
+  // 3. The deformation graph with the merge factors, held out until they fit (in an incremental
+  //    round, a new one that fits the start is known instead).
   if (options_.hold_out_merges) {
     for (const PoseGraphEdge& e : merges) held_out.insert({e.from, e.to});
   }
@@ -345,14 +346,18 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     warm.last_skeleton = std::move(last.last_skeleton);
     for (const PoseGraphEdge& e : merges) {
       const auto verdict = last.verdicts.find({e.from, e.to});
-      if (verdict == last.verdicts.end()) continue;
-      warm.verdicts.insert(*verdict);
-      if (verdict->second) held_out.erase(verdict->first);  // kept last round: known
+      if (verdict != last.verdicts.end()) {
+        warm.verdicts.insert(*verdict);
+        if (verdict->second) held_out.erase(verdict->first);  // kept last round: known
+      } else if (options_.admit_fitting_merges) {
+        warm.admit_if_fitting.insert({e.from, e.to});  // new: known where it fits the start
+      }
     }
   }
   const DeformationResult result = optimizeDeformationGraph(graph, options_.deformation, held_out,
                                                             warm.poses.empty() ? nullptr : &warm);
   report.verdicts_redecided += result.solve.known_contradicted;
+  report.merges_admitted = result.admitted;
   report.solves += result.solve.solves + (result.whole_graph_free > 0 ? 1 : 0);
   report.whole_graph_s = result.whole_graph_s;
   report.whole_graph_free = result.whole_graph_free;

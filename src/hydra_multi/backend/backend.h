@@ -73,6 +73,11 @@ struct BackendOptions {
   /// changed starts afresh. false: every round decides everything from the aligned frontend
   /// state, as the paper's batch backend.
   bool incremental = true;
+  /// Incremental rounds: a merge new since the last round that fits the start of the solve with
+  /// merges (its squared residual within GNC's threshold) is a known inlier there instead of held
+  /// out, so no solve is spent without it; the solve still decides again a known inlier its
+  /// result contradicts (RobustPgoOptions::known_inlier). The others stay held out.
+  bool admit_fitting_merges = true;
 };
 
 struct BackendRoundReport {
@@ -95,6 +100,8 @@ struct BackendRoundReport {
   /// Incremental rounds: robust factors (loop closures, merges) taken as decided from the last
   /// round, and those of them the solve contradicted and GNC decided again.
   size_t verdicts_known = 0, verdicts_redecided = 0;
+  /// Merges new in this round taken as known inliers, as they fit the start (admit_fitting_merges).
+  size_t merges_admitted = 0;
   int solves = 0;  ///< pose-graph solves of the round (GNC's included)
   /// Poses the whole-graph solve moved (DeformationGraphOptions::local_whole_graph: those near
   /// what changed since the last round; else all).

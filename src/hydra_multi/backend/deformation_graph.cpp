@@ -76,6 +76,34 @@ std::optional<std::set<NodeId>> changedNodes(const PoseGraph& whole,
   return changed;
 }
 
+// The held-out factors of `candidates` (from, to) whose squared residual at `poses` is within GNC's
+// threshold (both ends placed) become known inliers of `solver`; returns how many.
+size_t admitFitting(const PoseGraph& graph, const std::map<NodeId, Eigen::Isometry3d>& poses,
+                    NodeId anchor, const std::set<std::pair<NodeId, NodeId>>& candidates,
+                    RobustPgoOptions& solver) {
+  PoseGraph held;
+  std::vector<size_t> index;
+  for (size_t k = 0; k < graph.edges.size(); ++k) {
+    const PoseGraphEdge& e = graph.edges[k];
+    if (solver.held_out[k] && candidates.count({e.from, e.to}) && poses.count(e.from) &&
+        poses.count(e.to)) {
+      held.edges.push_back(e);
+      index.push_back(k);
+    }
+  }
+  const std::vector<double> r2 =
+      PoseGraphProblem(held, poses, anchor, solver.solver).squaredResiduals();
+  const double c2 = solver.gnc.thresholdSq();
+  size_t admitted = 0;
+  for (size_t i = 0; i < index.size(); ++i) {
+    if (r2[i] > c2) continue;
+    solver.held_out[index[i]] = false;
+    solver.known_inlier[index[i]] = true;
+    ++admitted;
+  }
+  return admitted;
+}
+
 }  // namespace
 
 NodeId controlPointId(RobotId robot, uint64_t index) { return NodeId::station('M', robot, index); }
@@ -318,6 +346,9 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
         initial_poses[id] = then->second;
     }
   }
+  if (warm != nullptr && !warm->admit_if_fitting.empty())
+    result.admitted =
+        admitFitting(robust, initial_poses, graph.anchor, warm->admit_if_fitting, solver);
   result.solve = optimizePoseGraph(robust, initial_poses, graph.anchor, solver);
   result.poses = result.solve.poses;
   for (size_t i = 0; i < robust.edges.size(); ++i) {

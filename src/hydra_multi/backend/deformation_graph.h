@@ -114,6 +114,7 @@ struct DeformationResult {
   RobustPgoResult solve;        ///< GNC's solve (over the skeleton when two_stage)
   double whole_graph_s = 0.0;   ///< the whole-graph solve after it (two_stage)
   size_t whole_graph_free = 0;  ///< poses that solve moved (local_whole_graph: not all)
+  size_t admitted = 0;          ///< held-out factors known as they fit the start (admit_if_fitting)
 };
 
 /// What a solve may take from earlier ones: poses to start from instead of the graph's initial
@@ -130,10 +131,13 @@ struct DeformationWarmStart {
   std::map<std::pair<NodeId, NodeId>, bool> verdicts;
   std::map<NodeId, Eigen::Isometry3d> last_whole, last_skeleton;
   std::map<NodeId, Eigen::Isometry3d> held_out, readmitted;
+  /// Held-out robust factors (from, to) that are known inliers where they fit the start (their
+  /// squared residual at the start within GNC's threshold); the others stay held out.
+  std::set<std::pair<NodeId, NodeId>> admit_if_fitting;
 };
 
 /// `held_out`: robust factors (from, to) GNC starts without, taken back only if they fit its
-/// result (RobustPgoOptions::held_out), whatever `warm` says of them.
+/// result (RobustPgoOptions::held_out), whatever `warm` says of them (but admit_if_fitting).
 DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
                                            const DeformationGraphOptions& options = {},
                                            const std::set<std::pair<NodeId, NodeId>>& held_out = {},

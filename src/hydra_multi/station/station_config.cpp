@@ -138,6 +138,8 @@ const std::map<std::string, std::map<std::string, Setter>>& setters() {
                 false)}}},
       {"reconciliation",
        {{"enabled", flag([](StationOptions& o, bool b) { o.backend.reconcile = b; })},
+        {"admit_fitting_merges",
+         flag([](StationOptions& o, bool b) { o.backend.admit_fitting_merges = b; })},
         {"place_max_distance",
          number(
              [](StationOptions& o, double x) { o.backend.reconciliation.place_max_distance = x; },
