@@ -149,20 +149,22 @@ int main(int argc, char** argv) {
       apart = text;
     }
     std::printf(
-        "%7s  %3zu/%-3zu  %6zu  %5zu  %7zu  %5zu  %4zu/%-4zu  %4zu/%-4zu  %5zu/%-3zu  %6d  %7.2f  "
+        "%7s  %3zu/%-3zu  %6zu  %5zu  %7zu  %5zu  %4zu/%-4zu  %4zu/%-4zu  %5zu/%-3zu  %5zu  %6d  "
+        "%7.2f  "
         "%7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %6zu  %7zu  %8ld  %8ld  %7.4f%s\n",
         name.c_str(), r.robots_aligned, r.robots, r.robots_afresh, r.variables, r.factors, r.nodes,
         r.inter_robot_inliers, r.inter_robot_loop_closures, r.merges_accepted, r.merges_proposed,
-        r.verdicts_known, r.verdicts_redecided, r.solves, r.alignment_s, r.build_s, r.gnc_s,
-        r.whole_graph_s, r.graph_s, r.rooms_s, r.time_s, r.whole_graph_free, r.vertices_blended,
-        wrong, across, ate, apart.c_str());
+        r.verdicts_known, r.verdicts_redecided, r.merges_admitted, r.solves, r.alignment_s,
+        r.build_s, r.gnc_s, r.whole_graph_s, r.graph_s, r.rooms_s, r.time_s, r.whole_graph_free,
+        r.vertices_blended, wrong, across, ate, apart.c_str());
     std::fflush(stdout);
     last_wrong = wrong;
     last_ate = ate;
     return r.time_s;
   };
   const char* header =
-      "  round  aligned  afresh  poses  factors  nodes  kept/lc    merges     known/redo  solves  "
+      "  round  aligned  afresh  poses  factors  nodes  kept/lc    merges     known/redo  admit  "
+      "solves  "
       "align_s  build_s    gnc_s  whole_s  graph_s  rooms_s  total_s   moved   meshed  lc_wrong  "
       "merges_x   "
       " ate_m\n";
