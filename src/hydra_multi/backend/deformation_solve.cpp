@@ -1,0 +1,232 @@
+// The deformation graph's solve (deformation_graph.h: optimizeDeformationGraph): GNC over the
+// skeleton, from a warm start where there is one, then the whole graph where the skeleton moved it.
+#include "hydra_multi/backend/deformation_graph.h"
+
+#include <chrono>
+#include <optional>
+#include <set>
+#include <unordered_map>
+
+namespace hydra_multi {
+namespace {
+
+// The nodes a warm-started whole-graph solve moves (DeformationGraphOptions::local_whole_graph):
+// those of the factors whose two poses are placed relative to each other otherwise than in the
+// earlier solution (or that it lacks), and those within local_hops edges of them; none without
+// an earlier solution.
+std::optional<std::set<NodeId>> changedNodes(const PoseGraph& whole,
+                                             const std::map<NodeId, Eigen::Isometry3d>& start,
+                                             const DeformationWarmStart& warm,
+                                             const DeformationGraphOptions& options) {
+  if (warm.last_whole.empty()) return std::nullopt;
+  std::set<NodeId> changed;
+  std::unordered_map<NodeId, std::vector<NodeId>> neighbours;
+  for (const PoseGraphEdge& e : whole.edges) {
+    if (!start.count(e.from) || !start.count(e.to)) continue;
+    neighbours[e.from].push_back(e.to);
+    neighbours[e.to].push_back(e.from);
+    const auto from_then = warm.last_whole.find(e.from), to_then = warm.last_whole.find(e.to);
+    bool moved = from_then == warm.last_whole.end() || to_then == warm.last_whole.end();
+    if (!moved) {
+      const Eigen::Isometry3d delta = (from_then->second.inverse() * to_then->second).inverse() *
+                                      (start.at(e.from).inverse() * start.at(e.to));
+      moved = delta.translation().norm() > options.local_move_m ||
+              Eigen::AngleAxisd(delta.linear()).angle() > options.local_move_rad;
+    }
+    if (moved) {
+      changed.insert(e.from);
+      changed.insert(e.to);
+    }
+  }
+  std::vector<NodeId> frontier(changed.begin(), changed.end());
+  for (int hop = 0; hop < options.local_hops && !frontier.empty(); ++hop) {
+    std::vector<NodeId> next;
+    for (const NodeId id : frontier) {
+      for (const NodeId n : neighbours[id]) {
+        if (changed.insert(n).second) next.push_back(n);
+      }
+    }
+    frontier = std::move(next);
+  }
+  return changed;
+}
+
+// The held-out factors of `candidates` (from, to) whose squared residual at `poses` is within GNC's
+// threshold (both ends placed) become known inliers of `solver`; returns how many.
+size_t admitFitting(const PoseGraph& graph, const std::map<NodeId, Eigen::Isometry3d>& poses,
+                    NodeId anchor, const std::set<std::pair<NodeId, NodeId>>& candidates,
+                    RobustPgoOptions& solver) {
+  PoseGraph held;
+  std::vector<size_t> index;
+  for (size_t k = 0; k < graph.edges.size(); ++k) {
+    const PoseGraphEdge& e = graph.edges[k];
+    if (solver.held_out[k] && candidates.count({e.from, e.to}) && poses.count(e.from) &&
+        poses.count(e.to)) {
+      held.edges.push_back(e);
+      index.push_back(k);
+    }
+  }
+  const std::vector<double> r2 =
+      PoseGraphProblem(held, poses, anchor, solver.solver).squaredResiduals();
+  const double c2 = solver.gnc.thresholdSq();
+  size_t admitted = 0;
+  for (size_t i = 0; i < index.size(); ++i) {
+    if (r2[i] > c2) continue;
+    solver.held_out[index[i]] = false;
+    solver.known_inlier[index[i]] = true;
+    ++admitted;
+  }
+  return admitted;
+}
+
+}  // namespace
+
+DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
+                                           const DeformationGraphOptions& options,
+                                           const std::set<std::pair<NodeId, NodeId>>& held_out,
+                                           const DeformationWarmStart* warm) {
+  DeformationResult result;
+  if (graph.initial.empty()) return result;
+  const PoseGraph& robust = options.two_stage ? graph.skeleton : graph.graph;
+  RobustPgoOptions solver = options.solver;
+  solver.held_out.assign(robust.edges.size(), false);
+  if (warm != nullptr) {
+    solver.earlier_held_out = warm->held_out;
+    solver.earlier_readmitted = warm->readmitted;
+  }
+  solver.known_inlier.assign(robust.edges.size(), false);
+  for (size_t k = 0; k < robust.edges.size(); ++k) {
+    const PoseGraphEdge& e = robust.edges[k];
+    if (e.kind != PoseGraphEdge::Kind::kLoopClosure) continue;
+    std::optional<bool> verdict;
+    if (warm != nullptr) {
+      const auto it = warm->verdicts.find({e.from, e.to});
+      if (it != warm->verdicts.end()) verdict = it->second;
+    }
+    if (held_out.count({e.from, e.to}) || verdict == false) {
+      solver.held_out[k] = true;
+    } else if (verdict == true) {
+      solver.known_inlier[k] = true;
+    }
+  }
+  std::map<NodeId, Eigen::Isometry3d> initial_poses = robust.poses;
+  if (warm != nullptr) {
+    std::set<NodeId> unplaced;
+    for (auto& [id, pose] : initial_poses) {
+      if (const auto it = warm->poses.find(id); it != warm->poses.end()) {
+        pose = it->second;
+      } else {
+        unplaced.insert(id);
+      }
+    }
+    // A node the warm start lacks (an object only merge candidates bring in) starts where its tie
+    // to a placed node puts it: as the earlier skeleton solution placed the two relative to each
+    // other, or else by the tie, as a solve without the node places a leaf.
+    const auto earlier = [&warm](NodeId id) {
+      const auto it = warm->last_skeleton.find(id);
+      return it == warm->last_skeleton.end() ? std::optional<Eigen::Isometry3d>() : it->second;
+    };
+    for (const PoseGraphEdge& e : robust.edges) {
+      if (e.kind == PoseGraphEdge::Kind::kLoopClosure) continue;
+      const bool from = unplaced.count(e.from) != 0, to = unplaced.count(e.to) != 0;
+      if (from == to || !initial_poses.count(e.from) || !initial_poses.count(e.to)) continue;
+      const NodeId placed = to ? e.from : e.to, node = to ? e.to : e.from;
+      const auto placed_then = earlier(placed), node_then = earlier(node);
+      initial_poses[node] =
+          initial_poses[placed] * (placed_then && node_then ? placed_then->inverse() * *node_then
+                                   : to                     ? e.T_from_to
+                                                            : e.T_from_to.inverse());
+      unplaced.erase(node);
+    }
+    for (const NodeId id : unplaced) {
+      if (const auto then = warm->last_whole.find(id); then != warm->last_whole.end())
+        initial_poses[id] = then->second;
+    }
+  }
+  if (warm != nullptr && !warm->admit_if_fitting.empty())
+    result.admitted =
+        admitFitting(robust, initial_poses, graph.anchor, warm->admit_if_fitting, solver);
+  result.solve = optimizePoseGraph(robust, initial_poses, graph.anchor, solver);
+  result.poses = result.solve.poses;
+  for (size_t i = 0; i < robust.edges.size(); ++i) {
+    const PoseGraphEdge& e = robust.edges[i];
+    if (e.kind == PoseGraphEdge::Kind::kLoopClosure && i < result.solve.edge_inlier.size())
+      result.robust_inlier[{e.from, e.to}] = result.solve.edge_inlier[i];
+  }
+  if (!options.two_stage) return result;
+
+  // The whole graph with the robust factors GNC kept, from the skeleton's solution: control
+  // points start where the keyframe that observed them moved them.
+  const auto whole_start = std::chrono::steady_clock::now();
+  PoseGraph whole;
+  whole.edges.reserve(graph.graph.edges.size());
+  for (const PoseGraphEdge& e : graph.graph.edges) {
+    if (e.kind == PoseGraphEdge::Kind::kLoopClosure) {
+      const auto kept = result.robust_inlier.find({e.from, e.to});
+      if (kept == result.robust_inlier.end() || !kept->second) continue;
+    }
+    whole.edges.push_back(e);
+  }
+  std::map<NodeId, Eigen::Isometry3d> initial = result.poses;
+  for (const auto& [id, pose] : graph.initial) {
+    if (initial.count(id)) continue;
+    const auto keyframe = graph.observed_by.find(id);
+    const auto moved = keyframe == graph.observed_by.end() ? result.poses.end()
+                                                           : result.poses.find(keyframe->second);
+    initial[id] = moved == result.poses.end()
+                      ? pose
+                      : moved->second * graph.initial.at(keyframe->second).inverse() * pose;
+  }
+  result.poses = initial;
+  if (options.final_iterations == 0) return result;
+  if (warm != nullptr) {
+    // From the earlier whole solution, moved as the skeleton (or the keyframe) moved since.
+    for (auto& [id, pose] : initial) {
+      const auto then = warm->last_whole.find(id);
+      if (then == warm->last_whole.end()) continue;
+      const auto keyframe = graph.observed_by.find(id);
+      const NodeId mover = keyframe == graph.observed_by.end() ? id : keyframe->second;
+      const auto now = result.solve.poses.find(mover);
+      const auto skeleton_then = warm->last_skeleton.find(mover);
+      if (now == result.solve.poses.end() || skeleton_then == warm->last_skeleton.end()) continue;
+      pose = now->second * skeleton_then->second.inverse() * then->second;
+    }
+  }
+  RobustPgoOptions plain = options.solver;
+  plain.robust = false;
+  plain.solver.max_iterations = options.final_iterations;
+  plain.solver.linear_solver = PoseGraphOptimizerOptions::LinearSolver::kSparseCholesky;
+  const std::optional<std::set<NodeId>> changed = options.local_whole_graph && warm != nullptr
+                                                      ? changedNodes(whole, initial, *warm, options)
+                                                      : std::nullopt;
+  if (!changed || changed->size() > options.local_max_share * initial.size()) {
+    const RobustPgoResult solved = optimizePoseGraph(whole, initial, graph.anchor, plain);
+    if (solved.usable) result.poses = solved.poses;
+    result.whole_graph_free = initial.size();
+  } else {
+    // The factors of the changed nodes, the others they reach held where they are.
+    result.poses = initial;
+    PoseGraph local;
+    std::map<NodeId, Eigen::Isometry3d> local_initial;
+    for (const PoseGraphEdge& e : whole.edges) {
+      if (!changed->count(e.from) && !changed->count(e.to)) continue;
+      local.edges.push_back(e);
+      for (const NodeId id : {e.from, e.to}) {
+        local_initial[id] = initial.at(id);
+        if (!changed->count(id)) plain.constant.insert(id);
+      }
+    }
+    if (!local.edges.empty()) {
+      const RobustPgoResult solved = optimizePoseGraph(local, local_initial, graph.anchor, plain);
+      if (solved.usable) {
+        for (const NodeId id : *changed) result.poses[id] = solved.poses.at(id);
+      }
+    }
+    result.whole_graph_free = changed->size();
+  }
+  result.whole_graph_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - whole_start).count();
+  return result;
+}
+
+}  // namespace hydra_multi
