@@ -214,5 +214,26 @@ TEST(Residuals, IsotropicWeightsFromInformation) {
   EXPECT_NEAR(w.kappa, 3.0 / (2.0 * (1.0 / 400 + 1.0 / 400 + 1.0 / 100)), 1e-12);
 }
 
+// S^T S is the information, per axis (the station's) or full; an information that is not positive
+// definite is weighed by its nearest positive-definite matrix.
+TEST(Residuals, GeodesicSqrtInformation) {
+  Matrix6d axes = Matrix6d::Zero();
+  axes.diagonal() << 100, 100, 100, 1e4, 1e4, 25;
+  const Matrix6d s_axes = geodesicSqrtInformation(axes);
+  EXPECT_TRUE((s_axes.transpose() * s_axes).isApprox(axes, 1e-15));
+  EXPECT_DOUBLE_EQ(s_axes(5, 5), 5.0);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> n;
+  Matrix6d a;
+  for (int i = 0; i < 36; ++i) a(i / 6, i % 6) = n(rng);
+  const Matrix6d full = a * a.transpose() + Matrix6d::Identity();
+  const Matrix6d s_full = geodesicSqrtInformation(full);
+  EXPECT_TRUE((s_full.transpose() * s_full).isApprox(full, 1e-12));
+  Matrix6d odd = axes;
+  odd(3, 3) = -50.0;
+  const Matrix6d s_odd = geodesicSqrtInformation(odd);
+  EXPECT_TRUE((s_odd.transpose() * s_odd).isApprox(nearestPositiveDefinite(odd), 1e-12));
+}
+
 }  // namespace
 }  // namespace hydra_multi

@@ -26,6 +26,10 @@ Matrix6d nearestPositiveDefinite(const Matrix6d& information) {
 }
 
 Matrix6d geodesicSqrtInformation(const Matrix6d& information) {
+  // A diagonal information (the station's, per axis): its square root on the diagonal.
+  const Vector6d diagonal = information.diagonal();
+  if ((information - Matrix6d(diagonal.asDiagonal())).isZero(0.0) && (diagonal.array() > 0.0).all())
+    return diagonal.cwiseSqrt().asDiagonal();
   // S = D^1/2 V^T from information = V D V^T, so ||S e||^2 = e^T information e. Unlike a
   // Cholesky factor it exists for semi-definite information too (negative round-off clamped). An
   // information that is not positive definite is weighed by its nearest positive-definite matrix.
