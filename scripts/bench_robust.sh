@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Robustness benchmark: GNC on real data with labelled outliers, on sphere2500 with injected
 # outliers, and the CSAIL two-robot split with unknown frames. Prints one line per case from the
-# JSON of `hydra-multi pgo`. Several minutes on 2 cores (the 80-90 % cases take longest).
+# JSON of `hydra-multi pgo`. About a minute on 2 cores (the 80-90 % cases take longest).
 set -euo pipefail
 bin=${1:?usage: bench_robust.sh HYDRA_MULTI_BINARY DATA_DIR}
 data=${2:?}
@@ -11,11 +11,11 @@ trap 'rm -rf "$tmp"' EXIT
 row() {  # name, then pgo arguments
   local name=$1
   shift
-  local json
-  json=$("$bin" pgo "$@" --json --quiet)
+  local json="$tmp/row.json"
+  "$bin" pgo "$@" --json --quiet > "$json"
   python3 - "$name" "$json" <<'PY'
 import json, sys
-name, d = sys.argv[1], json.loads(sys.argv[2])
+name, d = sys.argv[1], json.load(open(sys.argv[2]))
 f = lambda v, fmt: "-" if v is None else format(v, fmt)
 print(f"{name:<34} {d['loop_closures']:>6} {d['outliers_injected']:>6} "
       f"{d['robots_aligned']}/{d['robots']:<3} {f(d['inlier_precision'], '.4f'):>9} "
