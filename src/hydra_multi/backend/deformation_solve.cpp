@@ -51,32 +51,22 @@ std::optional<std::set<NodeId>> changedNodes(const PoseGraph& whole,
   return changed;
 }
 
-// The held-out factors of `candidates` (from, to) whose squared residual at `poses` is within GNC's
-// threshold (both ends placed) become known inliers of `solver`; returns how many.
+// The held-out factors of `candidates` (from, to) that fit `poses` (edgesThatFit) become known
+// inliers of `solver`; returns how many.
 size_t admitFitting(const PoseGraph& graph, const std::map<NodeId, Eigen::Isometry3d>& poses,
                     NodeId anchor, const std::set<std::pair<NodeId, NodeId>>& candidates,
                     RobustPgoOptions& solver) {
-  PoseGraph held;
-  std::vector<size_t> index;
+  std::vector<size_t> held;
   for (size_t k = 0; k < graph.edges.size(); ++k) {
     const PoseGraphEdge& e = graph.edges[k];
-    if (solver.held_out[k] && candidates.count({e.from, e.to}) && poses.count(e.from) &&
-        poses.count(e.to)) {
-      held.edges.push_back(e);
-      index.push_back(k);
-    }
+    if (solver.held_out[k] && candidates.count({e.from, e.to})) held.push_back(k);
   }
-  const std::vector<double> r2 =
-      PoseGraphProblem(held, poses, anchor, solver.solver).squaredResiduals();
-  const double c2 = solver.gnc.thresholdSq();
-  size_t admitted = 0;
-  for (size_t i = 0; i < index.size(); ++i) {
-    if (r2[i] > c2) continue;
-    solver.held_out[index[i]] = false;
-    solver.known_inlier[index[i]] = true;
-    ++admitted;
+  const std::vector<size_t> fit = edgesThatFit(graph, held, poses, anchor, solver);
+  for (const size_t k : fit) {
+    solver.held_out[k] = false;
+    solver.known_inlier[k] = true;
   }
-  return admitted;
+  return fit.size();
 }
 
 }  // namespace

@@ -209,24 +209,16 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
 
       size_t readmitted = 0;
       if (options.readmit_consistent) {
-        PoseGraph rejected;
-        std::vector<size_t> index;
-        std::vector<size_t> candidates = robust_edges;
-        candidates.insert(candidates.end(), held_out.begin(), held_out.end());
-        for (const size_t k : candidates) {
-          if (!result.edge_inlier[k]) {
-            rejected.edges.push_back(graph.edges[k]);
-            index.push_back(k);
+        std::vector<size_t> rejected;
+        for (const auto* decided : {&robust_edges, &held_out}) {
+          for (const size_t k : *decided) {
+            if (!result.edge_inlier[k]) rejected.push_back(k);
           }
         }
-        const std::vector<double> r2 =
-            PoseGraphProblem(rejected, result.poses, anchor, options.solver).squaredResiduals();
-        for (size_t i = 0; i < index.size(); ++i) {
-          if (r2[i] <= c2) {
-            result.edge_inlier[index[i]] = true;
-            result.edge_weight[index[i]] = 1.0;
-            ++readmitted;
-          }
+        for (const size_t k : edgesThatFit(graph, rejected, result.poses, anchor, options)) {
+          result.edge_inlier[k] = true;
+          result.edge_weight[k] = 1.0;
+          ++readmitted;
         }
       }
       if (options.progress) {
@@ -331,6 +323,27 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
 }
 
 }  // namespace
+
+std::vector<size_t> edgesThatFit(const PoseGraph& graph, const std::vector<size_t>& candidates,
+                                 const std::map<NodeId, Eigen::Isometry3d>& poses, NodeId anchor,
+                                 const RobustPgoOptions& options) {
+  PoseGraph placed;
+  std::vector<size_t> index;
+  for (const size_t k : candidates) {
+    const PoseGraphEdge& e = graph.edges[k];
+    if (!poses.count(e.from) || !poses.count(e.to)) continue;
+    placed.edges.push_back(e);
+    index.push_back(k);
+  }
+  const std::vector<double> r2 =
+      PoseGraphProblem(placed, poses, anchor, options.solver).squaredResiduals();
+  const double c2 = options.gnc.thresholdSq();
+  std::vector<size_t> fit;
+  for (size_t i = 0; i < index.size(); ++i) {
+    if (r2[i] <= c2) fit.push_back(index[i]);
+  }
+  return fit;
+}
 
 RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
                                   const std::map<NodeId, Eigen::Isometry3d>& initial, NodeId anchor,

@@ -91,6 +91,12 @@ struct RobustPgoResult {
   std::string message;  ///< the last solve's report
 };
 
+/// The edges among `candidates` (indices into `graph`) with both ends in `poses` whose squared
+/// residual there is within GNC's inlier threshold (options.gnc): those a solve takes back.
+std::vector<size_t> edgesThatFit(const PoseGraph& graph, const std::vector<size_t>& candidates,
+                                 const std::map<NodeId, Eigen::Isometry3d>& poses, NodeId anchor,
+                                 const RobustPgoOptions& options);
+
 RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
                                   const std::map<NodeId, Eigen::Isometry3d>& initial, NodeId anchor,
                                   const RobustPgoOptions& options = {});
