@@ -10,6 +10,7 @@ packages=(
   libcli11-dev         # apps: command line
   libceres-dev libsuitesparse-dev  # optim: pose-graph optimization, sparse Cholesky
   libopenblas0-serial  # optim: CHOLMOD's dense kernels (Debian's default BLAS is slower)
+  libjemalloc-dev      # every executable's malloc (the maps' and graphs' small blocks)
   libnanoflann-dev     # core: KD-tree nearest neighbours
   libgtest-dev libgmock-dev  # tests
   libzmq3-dev cppzmq-dev     # net: robots and station over ZeroMQ
