@@ -230,5 +230,59 @@ TEST(PoseGraphOptimizer, OutliersThatJoinRandomPosesFillTheFactorIn) {
   EXPECT_GT(outliers, 10.0);
 }
 
+// Edges left out of a problem are no factors and no part of its sparse factor: sphere2500 with
+// random outliers at weight 0 takes the same steps with them in the pattern and left out of it,
+// left out with the clean graph's factor; an outlier given a weight again is back in.
+TEST(PoseGraphOptimizer, LeftOutEdgesAreNoFactorsAndAddNoFillIn) {
+  auto g2o = io::readG2o(testing::dataDir() + "/pgo/sphere2500.g2o");
+  ASSERT_TRUE(g2o.ok()) << g2o.error();
+  PoseGraph g = g2o.value().graph;
+  classifyEdges(g);
+  const NodeId anchor = g.poses.begin()->first;
+  const double clean = PoseGraphProblem(g, g.poses, anchor).choleskyFlopsPerPose();
+  const auto start = chordalInitialization(g, anchor);
+  ASSERT_TRUE(start.ok()) << start.error();
+  const size_t first_outlier = g.edges.size();
+  // A few: SuiteSparseBlocks' tests expect no kept block of 64 MB from the tests before them.
+  ASSERT_EQ(injectOutliers(g, g.poses, 0.02, 2), 50u);
+  std::vector<double> weights(g.edges.size(), 1.0);
+  std::vector<bool> out(g.edges.size(), false);
+  for (size_t k = first_outlier; k < g.edges.size(); ++k) {
+    weights[k] = 0.0;
+    out[k] = true;
+  }
+  PoseGraphOptimizerOptions options;
+  options.max_iterations = 3;  // the same steps either way, to rounding
+  PoseGraphProblem zero(g, start.value(), anchor, options), left(g, start.value(), anchor, options);
+  zero.setWeights(weights);
+  left.setWeights(weights);
+  left.leaveOut(out);
+  EXPECT_GT(zero.choleskyFlopsPerPose(), 1.3 * left.choleskyFlopsPerPose());
+  EXPECT_NEAR(left.choleskyFlopsPerPose(), clean, 1e-9 * clean);
+  EXPECT_FALSE(left.edgeIncluded(first_outlier));
+  EXPECT_TRUE(zero.edgeIncluded(first_outlier));
+
+  const auto sameSteps = [&](PoseGraphProblem& a, PoseGraphProblem& b) {
+    const SolveSummary by_a = a.solve(), by_b = b.solve();
+    ASSERT_TRUE(by_a.usable && by_b.usable) << by_a.message << " / " << by_b.message;
+    EXPECT_NEAR(by_a.final_cost, by_b.final_cost, 1e-8 * by_b.final_cost);
+    double apart = 0.0;
+    const auto b_poses = b.poses();
+    for (const auto& [id, T] : a.poses())
+      apart = std::max(apart, (T.translation() - b_poses.at(id).translation()).norm());
+    EXPECT_LT(apart, 1e-6);
+  };
+  sameSteps(left, zero);
+  EXPECT_EQ(left.squaredResiduals()[first_outlier], 0.0);
+  EXPECT_GT(zero.squaredResiduals()[first_outlier], 0.0);
+
+  weights[first_outlier] = 1.0;  // an outlier back, by its weight alone
+  left.setWeights(weights);
+  zero.setWeights(weights);
+  sameSteps(left, zero);
+  EXPECT_TRUE(left.edgeIncluded(first_outlier));
+  EXPECT_GT(left.squaredResiduals()[first_outlier], 0.0);
+}
+
 }  // namespace
 }  // namespace hydra_multi

@@ -24,11 +24,14 @@ struct PoseGraphProblem::Impl {
   std::optional<size_t> anchor;
   std::vector<bool> constant;  // per block (empty: none), besides the anchor
   std::unique_ptr<ceres::Manifold> rotation;
-  // Per edge: its cost (null if excluded), its weight and its poses.
+  // Per edge: its cost (null if excluded), its weight and its poses; left out (leaveOut): kept,
+  // but not in the problem.
   struct EdgeBlock {
     std::unique_ptr<ceres::CostFunction> cost;
     double weight = 1.0;
     size_t i = 0, j = 0;
+    bool left_out = false;
+    bool active() const { return cost != nullptr && !left_out; }
   };
   std::vector<EdgeBlock> edges;
   // Sparse Cholesky: our Levenberg-Marquardt, its analysis kept between solves.
@@ -36,6 +39,14 @@ struct PoseGraphProblem::Impl {
   // Conjugate gradients: a Ceres problem, built on its first solve.
   std::unique_ptr<ceres::Problem> problem;
   std::vector<ceres::LossFunctionWrapper*> losses;  // per edge, owned by the problem
+
+  // Drops the solvers built so far: the next solve builds them for the factors and free poses of
+  // then.
+  void reset() {
+    lm.reset();
+    problem.reset();
+    losses.clear();
+  }
 
   static ceres::LossFunction* lossOf(double weight) {
     // A weight of exactly 1 uses no loss at all (plain least squares).
@@ -55,7 +66,7 @@ struct PoseGraphProblem::Impl {
     losses.assign(edges.size(), nullptr);
     for (size_t k = 0; k < edges.size(); ++k) {
       EdgeBlock& e = edges[k];
-      if (!e.cost) continue;
+      if (!e.active()) continue;
       losses[k] = new ceres::LossFunctionWrapper(lossOf(e.weight), ceres::TAKE_OWNERSHIP);
       problem->AddResidualBlock(e.cost.get(), losses[k], blocks[e.i].q.coeffs().data(),
                                 blocks[e.i].t.data(), blocks[e.j].q.coeffs().data(),
@@ -75,7 +86,7 @@ struct PoseGraphProblem::Impl {
     if (lm) return *lm;
     std::vector<LmTerm> terms;
     for (const EdgeBlock& e : edges) {
-      if (e.cost) terms.push_back({e.cost.get(), e.i, e.j});
+      if (e.active()) terms.push_back({e.cost.get(), e.i, e.j});
     }
     lm = std::make_unique<SparseLevenbergMarquardt>(blocks.size(), std::move(terms), fixedBlocks(),
                                                     *rotation);
@@ -138,7 +149,8 @@ void PoseGraphProblem::setWeights(const std::vector<double>& weights) {
   for (size_t k = 0; k < m.edges.size() && k < weights.size(); ++k) {
     if (!m.edges[k].cost) continue;
     m.edges[k].weight = weights[k];
-    if (m.problem) m.losses[k]->Reset(Impl::lossOf(weights[k]), ceres::TAKE_OWNERSHIP);
+    if (m.problem && m.losses[k] != nullptr)
+      m.losses[k]->Reset(Impl::lossOf(weights[k]), ceres::TAKE_OWNERSHIP);
   }
 }
 
@@ -146,10 +158,16 @@ SolveSummary PoseGraphProblem::solve() {
   Impl& m = *impl_;
   const PoseGraphOptimizerOptions& o = m.options;
   SolveSummary result;
+  // A left-out edge given a weight is a factor again: the problem is built anew.
+  for (Impl::EdgeBlock& e : m.edges) {
+    if (!e.left_out || e.weight == 0.0) continue;
+    e.left_out = false;
+    m.reset();
+  }
   if (o.linear_solver == PoseGraphOptimizerOptions::LinearSolver::kSparseCholesky) {
     std::vector<double> weights;
     for (const Impl::EdgeBlock& e : m.edges) {
-      if (e.cost) weights.push_back(e.weight);
+      if (e.active()) weights.push_back(e.weight);
     }
     const LmSummary summary = m.sparse().solve(
         m.blocks, weights,
@@ -208,9 +226,19 @@ PoseGraphProblem& PoseGraphProblem::holdConstant(const std::set<NodeId>& ids) {
   for (const NodeId id : ids) {
     if (const auto i = m.index.find(id); i != m.index.end()) m.constant[i->second] = true;
   }
-  m.lm.reset();  // analyzed again for the new free set on the next solve
-  m.problem.reset();
-  m.losses.clear();
+  m.reset();  // analyzed again for the new free set on the next solve
+  return *this;
+}
+
+PoseGraphProblem& PoseGraphProblem::leaveOut(const std::vector<bool>& edges) {
+  Impl& m = *impl_;
+  bool changed = false;
+  for (size_t k = 0; k < m.edges.size(); ++k) {
+    const bool out = k < edges.size() && edges[k];
+    changed = changed || (m.edges[k].cost && m.edges[k].left_out != out);
+    m.edges[k].left_out = out;
+  }
+  if (changed) m.reset();
   return *this;
 }
 
@@ -229,7 +257,7 @@ std::vector<double> PoseGraphProblem::squaredResiduals() const {
   std::vector<double> result(impl_->edges.size(), 0.0);
   for (size_t k = 0; k < impl_->edges.size(); ++k) {
     const Impl::EdgeBlock& e = impl_->edges[k];
-    if (!e.cost) continue;
+    if (!e.active()) continue;
     const double* parameters[4] = {
         impl_->blocks[e.i].q.coeffs().data(), impl_->blocks[e.i].t.data(),
         impl_->blocks[e.j].q.coeffs().data(), impl_->blocks[e.j].t.data()};
@@ -246,7 +274,7 @@ double PoseGraphProblem::choleskyFlopsPerPose() {
 }
 
 bool PoseGraphProblem::edgeIncluded(size_t edge) const {
-  return edge < impl_->edges.size() && impl_->edges[edge].cost != nullptr;
+  return edge < impl_->edges.size() && impl_->edges[edge].active();
 }
 
 Result<double> sesyncCost(const std::vector<PoseGraphEdge>& edges,

@@ -78,6 +78,12 @@ class PoseGraphProblem {
   /// given before.
   PoseGraphProblem& holdConstant(const std::set<NodeId>& ids);
 
+  /// Per graph edge (shorter: the rest are in): edges left out of the problem, as if excluded,
+  /// until a later call brings them back. For factors at weight 0 for a while (held out of
+  /// GNC): out of the sparse factor's pattern, they cost it no fill-in. One given a weight > 0
+  /// comes back on the next solve. A change makes the next solve order and analyze anew.
+  PoseGraphProblem& leaveOut(const std::vector<bool>& edges);
+
   std::map<NodeId, Eigen::Isometry3d> poses() const;
   /// Unweighted squared residual of every edge at the current poses (0 for excluded edges):
   /// the squared Mahalanobis norm for geodesic residuals, the chordal cost term for chordal ones.

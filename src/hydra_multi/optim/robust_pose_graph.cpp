@@ -86,6 +86,17 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
     }
   }
 
+  // The held-out factors stay at weight 0 until re-admitted: out of the problem until then, they
+  // add no fill-in to GNC's factorizations (the polish brings back those it re-admits).
+  const auto leaveOutRejected = [&] {
+    std::vector<bool> out(graph.edges.size(), false);
+    for (const size_t k : held_out) {
+      out[k] = result.edge_inlier.empty() || !result.edge_inlier[k];
+    }
+    problem.leaveOut(out);
+  };
+  leaveOutRejected();
+
   // Before GNC's first solve, the factor's fill decides the linear solver (see options).
   bool conjugate_gradients = false, chosen = false;
   const auto chooseLinearSolver = [&]() {
@@ -172,6 +183,7 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
   };
   const auto polish = [&] {
     for (int round = 0; round < 10; ++round) {
+      leaveOutRejected();  // those re-admitted last round back in
       const size_t inlier_edges =
           std::count(result.edge_inlier.begin(), result.edge_inlier.end(), true);
       if (round > 0 && !options.earlier_held_out.empty()) {

@@ -46,9 +46,10 @@ struct RobustPgoOptions {
   /// GNC's first weights from the residuals at the initial estimate instead of a least-squares
   /// solve over every loop closure (see runGnc).
   bool gnc_from_initial_estimate = true;
-  /// Per graph edge (empty: none): robust factors GNC holds out, at weight 0 throughout; they count
-  /// as rejected, and readmit_consistent takes back those that fit the result. For loop closures
-  /// an earlier, more global test already doubts (the alignment's consensus, initial_alignment.h).
+  /// Per graph edge (empty: none): robust factors GNC holds out, at weight 0 throughout and out of
+  /// the sparse factor's pattern (PoseGraphProblem::leaveOut); they count as rejected, and
+  /// readmit_consistent takes back those that fit the result. For loop closures an earlier, more
+  /// global test already doubts (the alignment's consensus, initial_alignment.h).
   std::vector<bool> held_out;
   /// Per graph edge (empty: none): robust factors known to be inliers (an earlier solve's verdict),
   /// at weight 1 while GNC decides the others. One whose squared residual at GNC's result exceeds
