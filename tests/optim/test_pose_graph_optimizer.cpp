@@ -214,13 +214,21 @@ TEST(PoseGraphOptimizer, ReachesCertifiedOptimumOnParkingGarage) {
   EXPECT_LE(f, f_star * 1.001);
 }
 
+// sphere2500 (../shared/data/pgo) with its edges classified; empty if it cannot be read.
+PoseGraph sphere2500() {
+  auto g2o = io::readG2o(testing::dataDir() + "/pgo/sphere2500.g2o");
+  EXPECT_TRUE(g2o.ok()) << g2o.error();
+  if (!g2o.ok()) return {};
+  PoseGraph g = g2o.value().graph;
+  classifyEdges(g);
+  return g;
+}
+
 // The fill GNC's choice of linear solver reads (RobustPgoOptions::cholesky_mflops_per_pose_limit,
 // 2): sphere2500 as it is stays sparse, with half of its loop closures random outliers it fills in.
 TEST(PoseGraphOptimizer, OutliersThatJoinRandomPosesFillTheFactorIn) {
-  auto g2o = io::readG2o(testing::dataDir() + "/pgo/sphere2500.g2o");
-  ASSERT_TRUE(g2o.ok()) << g2o.error();
-  PoseGraph g = g2o.value().graph;
-  classifyEdges(g);
+  PoseGraph g = sphere2500();
+  ASSERT_FALSE(g.poses.empty());
   const NodeId anchor = g.poses.begin()->first;
   const double clean = PoseGraphProblem(g, g.poses, anchor).choleskyFlopsPerPose() / 1e6;
   EXPECT_GT(injectOutliers(g, g.poses, 0.5, 1), 2000u);
@@ -234,10 +242,8 @@ TEST(PoseGraphOptimizer, OutliersThatJoinRandomPosesFillTheFactorIn) {
 // random outliers at weight 0 takes the same steps with them in the pattern and left out of it,
 // left out with the clean graph's factor; an outlier given a weight again is back in.
 TEST(PoseGraphOptimizer, LeftOutEdgesAreNoFactorsAndAddNoFillIn) {
-  auto g2o = io::readG2o(testing::dataDir() + "/pgo/sphere2500.g2o");
-  ASSERT_TRUE(g2o.ok()) << g2o.error();
-  PoseGraph g = g2o.value().graph;
-  classifyEdges(g);
+  PoseGraph g = sphere2500();
+  ASSERT_FALSE(g.poses.empty());
   const NodeId anchor = g.poses.begin()->first;
   const double clean = PoseGraphProblem(g, g.poses, anchor).choleskyFlopsPerPose();
   const auto start = chordalInitialization(g, anchor);
