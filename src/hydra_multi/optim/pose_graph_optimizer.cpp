@@ -234,8 +234,9 @@ PoseGraphProblem& PoseGraphProblem::leaveOut(const std::vector<bool>& edges) {
   Impl& m = *impl_;
   bool changed = false;
   for (size_t k = 0; k < m.edges.size(); ++k) {
-    const bool out = k < edges.size() && edges[k];
-    changed = changed || (m.edges[k].cost && m.edges[k].left_out != out);
+    // An edge without a cost is no factor either way (and its weight is never set).
+    const bool out = m.edges[k].cost && k < edges.size() && edges[k];
+    changed = changed || m.edges[k].left_out != out;
     m.edges[k].left_out = out;
   }
   if (changed) m.reset();
