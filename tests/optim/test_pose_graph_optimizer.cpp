@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <set>
 
 #include "hydra_multi/optim/chordal_initialization.h"
 #include "hydra_multi/optim/io/g2o_format.h"
@@ -288,6 +289,43 @@ TEST(PoseGraphOptimizer, LeftOutEdgesAreNoFactorsAndAddNoFillIn) {
   sameSteps(left, zero);
   EXPECT_TRUE(left.edgeIncluded(first_outlier));
   EXPECT_GT(left.squaredResiduals()[first_outlier], 0.0);
+}
+
+TEST(PoseGraphOptimizer, LinearizationThreadsTakeTheStepsOfOneThreadToTheBit) {
+  PoseGraph g = sphere2500();
+  ASSERT_FALSE(g.poses.empty());
+  ASSERT_GE(g.edges.size(), 4096u);  // below, the solver linearizes on one thread anyway
+  const NodeId anchor = g.poses.begin()->first;
+  const auto start = chordalInitialization(g, anchor);
+  ASSERT_TRUE(start.ok()) << start.error();
+  std::vector<double> weights(g.edges.size(), 1.0);
+  weights[7] = 0.0;
+  weights[100] = 0.25;
+  std::set<NodeId> constant;  // poses held: terms between two of them add a cost and no block
+  for (const auto& [id, T] : g.poses) {
+    if (constant.size() < 40) constant.insert(id);
+  }
+  const auto solved = [&](int threads) {
+    PoseGraphOptimizerOptions options;
+    options.max_iterations = 4;
+    options.linearization_threads = threads;
+    PoseGraphProblem problem(g, start.value(), anchor, options);
+    problem.holdConstant(constant);
+    problem.setWeights(weights);
+    const SolveSummary summary = problem.solve();
+    EXPECT_TRUE(summary.usable) << summary.message;
+    EXPECT_EQ(summary.iterations, 4);
+    return std::make_pair(summary, problem.poses());
+  };
+  const auto [one, one_poses] = solved(1);
+  for (const int threads : {2, 3}) {
+    const auto [many, many_poses] = solved(threads);
+    EXPECT_EQ(many.initial_cost, one.initial_cost) << threads;
+    EXPECT_EQ(many.final_cost, one.final_cost) << threads;
+    for (const auto& [id, T] : one_poses) {
+      ASSERT_TRUE(T.matrix() == many_poses.at(id).matrix()) << id.str() << ", " << threads;
+    }
+  }
 }
 
 }  // namespace

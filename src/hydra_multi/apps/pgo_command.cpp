@@ -252,6 +252,7 @@ int runPgo(const PgoOptions& o) {
       o.residual == "chordal" ? ResidualType::kChordal : ResidualType::kGeodesic;
   options.solver.function_tolerance = o.tolerance;
   options.solver.num_threads = o.threads;
+  options.solver.linearization_threads = o.threads;
   options.gnc_inner_iterations = o.gnc_inner_iterations;
   options.reduce_chains = !o.keep_chains;
   if (o.linear_solver == "cg") options.cholesky_mflops_per_pose_limit = 0.0;

@@ -169,9 +169,10 @@ SolveSummary PoseGraphProblem::solve() {
     for (const Impl::EdgeBlock& e : m.edges) {
       if (e.active()) weights.push_back(e.weight);
     }
-    const LmSummary summary = m.sparse().solve(
-        m.blocks, weights,
-        {o.max_iterations, o.function_tolerance, o.gradient_tolerance, o.parameter_tolerance});
+    const LmSummary summary =
+        m.sparse().solve(m.blocks, weights,
+                         {o.max_iterations, o.function_tolerance, o.gradient_tolerance,
+                          o.parameter_tolerance, o.linearization_threads});
     result.usable = summary.usable;
     result.message = summary.message;
     result.iterations = summary.iterations;

@@ -32,7 +32,10 @@ struct PoseGraphOptimizerOptions {
   double function_tolerance = 1e-4;
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-10;
-  int num_threads = 1;
+  int num_threads = 1;  ///< Ceres' threads (conjugate gradients)
+  /// Threads that linearize the sparse Cholesky solves (LmOptions::threads; the same steps as
+  /// one thread's, to the bit).
+  int linearization_threads = 1;
   /// Sparse Cholesky is exact and fast while the graph stays sparse; outlier loop closures that
   /// join random poses make its factor dense (sphere2500 with 50 % outliers: ~9 s per iteration),
   /// where Jacobi-preconditioned conjugate gradients (no fill-in) are the only affordable step.

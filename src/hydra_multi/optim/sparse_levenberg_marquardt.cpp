@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <thread>
 
 #include "hydra_multi/optim/serial_openmp.h"
 #include "hydra_multi/optim/suitesparse_blocks.h"
@@ -36,6 +37,7 @@ constexpr double kMaxDiagonal = 1e32;
 constexpr double kMinRelativeDecrease = 1e-3;
 constexpr int kMaxConsecutiveInvalidSteps = 5;
 constexpr size_t kBothOrderingsFrom = 5000;  // variables
+constexpr size_t kThreadsFrom = 4096;        // terms: fewer are linearized on one thread
 
 }  // namespace
 
@@ -57,6 +59,17 @@ struct SparseLevenbergMarquardt::Impl {
     long ii = kNone, jj = kNone, ij = kNone;
   };
   std::vector<TermBlocks> term_blocks;
+  // Per thread of the linearization (threads > 1), the terms it visits in order, each with what
+  // it adds: the blocks (i, i), (j, j), (min, max) of H and g's segments of the variables the
+  // thread owns (a contiguous range), and the term's cost if the term's first free pose is one
+  // of them (thread 0 for a term between fixed poses).
+  enum Part : uint8_t { kOwnI = 1, kOwnJ = 2, kOwnIJ = 4, kOwnCost = 8 };
+  struct Visit {
+    uint32_t term;
+    uint8_t parts;
+  };
+  std::vector<std::vector<Visit>> visits;
+  mutable std::vector<double> term_cost;  // per term, its 1/2 w ||r||^2 (threads > 1)
   cholmod_common common;
   cholmod_sparse* H = nullptr;
   cholmod_factor* L = nullptr;
@@ -114,48 +127,153 @@ struct SparseLevenbergMarquardt::Impl {
     return true;
   }
 
-  // 1/2 sum_k w_k ||r_k||^2; infinity if a residual cannot be evaluated or is not finite.
-  double cost(const std::vector<PoseParameters>& poses, const std::vector<double>& weights) const {
+  // Runs work(t) for t = 0 .. threads-1, t > 0 each on a thread of its own.
+  template <typename Work>
+  static void runOn(size_t threads, const Work& work) {
+    std::vector<std::thread> helpers;
+    for (size_t t = 1; t < threads; ++t) helpers.emplace_back([&work, t] { work(t); });
+    work(0);
+    for (std::thread& helper : helpers) helper.join();
+  }
+
+  size_t threadsFor(int requested) const {
+    if (requested <= 1 || terms.size() < kThreadsFrom) return 1;
+    return std::min<size_t>(static_cast<size_t>(requested), 8);
+  }
+
+  // 1/2 sum_k w_k ||r_k||^2 (summed in term order whatever the threads); infinity if a residual
+  // cannot be evaluated or is not finite.
+  double cost(const std::vector<PoseParameters>& poses, const std::vector<double>& weights,
+              int requested_threads) const {
+    const size_t threads = threadsFor(requested_threads);
     double total = 0.0;
-    Residual r;
-    for (size_t k = 0; k < terms.size(); ++k) {
-      const double w = k < weights.size() ? weights[k] : 1.0;
-      if (w == 0.0) continue;
-      if (!evaluate(k, poses, r, nullptr, nullptr)) return HUGE_VAL;
-      total += 0.5 * w * r.squaredNorm();
+    if (threads == 1) {
+      Residual r;
+      for (size_t k = 0; k < terms.size(); ++k) {
+        const double w = k < weights.size() ? weights[k] : 1.0;
+        if (w == 0.0) continue;
+        if (!evaluate(k, poses, r, nullptr, nullptr)) return HUGE_VAL;
+        total += 0.5 * w * r.squaredNorm();
+      }
+      return std::isfinite(total) ? total : HUGE_VAL;
     }
+    term_cost.resize(terms.size());
+    std::vector<char> failed(threads, 0);
+    runOn(threads, [&](size_t t) {
+      Residual r;
+      const size_t first = terms.size() * t / threads, last = terms.size() * (t + 1) / threads;
+      for (size_t k = first; k < last; ++k) {
+        const double w = k < weights.size() ? weights[k] : 1.0;
+        term_cost[k] = 0.0;
+        if (w == 0.0) continue;
+        if (!evaluate(k, poses, r, nullptr, nullptr)) {
+          failed[t] = 1;
+          return;
+        }
+        term_cost[k] = 0.5 * w * r.squaredNorm();
+      }
+    });
+    if (std::find(failed.begin(), failed.end(), 1) != failed.end()) return HUGE_VAL;
+    for (const double c : term_cost) total += c;
     return std::isfinite(total) ? total : HUGE_VAL;
   }
 
-  // H = J^T W J into the CHOLMOD values, g = J^T W r; returns the cost (infinity on failure).
-  double linearize(const std::vector<PoseParameters>& poses, const std::vector<double>& weights,
-                   Eigen::VectorXd& g) {
-    std::fill_n(static_cast<double*>(H->x), H->nzmax, 0.0);
-    g.setZero(static_cast<Eigen::Index>(6 * variables));
-    double total = 0.0;
-    Residual r;
-    JacobianRows J_i, J_j;
-    for (size_t k = 0; k < terms.size(); ++k) {
-      const double w = k < weights.size() ? weights[k] : 1.0;
-      if (w == 0.0) continue;
-      if (!evaluate(k, poses, r, &J_i, &J_j)) return HUGE_VAL;
-      total += 0.5 * w * r.squaredNorm();
-      const long vi = variable[terms[k].i], vj = variable[terms[k].j];
-      const TermBlocks& b = term_blocks[k];
-      if (vi != kNone) {
-        add(b.ii, w * J_i.transpose() * J_i, true);
-        g.segment<6>(6 * vi) += w * J_i.transpose() * r;
-      }
-      if (vj != kNone) {
-        add(b.jj, w * J_j.transpose() * J_j, true);
-        g.segment<6>(6 * vj) += w * J_j.transpose() * r;
-      }
-      if (vi != kNone && vj != kNone) {
-        const Block m =
-            vi < vj ? Block(w * J_i.transpose() * J_j) : Block(w * J_j.transpose() * J_i);
-        add(b.ij, m, false);
+  // Which thread adds what (visits), for `threads` threads: each owns a contiguous range of
+  // variables holding about 1/threads of the terms' ends.
+  void partition(size_t threads) {
+    if (visits.size() == threads) return;
+    std::vector<size_t> ends(variables, 0);
+    size_t total = 0;
+    for (const LmTerm& t : terms) {
+      for (const size_t pose : {t.i, t.j}) {
+        if (variable[pose] == kNone) continue;
+        ++ends[static_cast<size_t>(variable[pose])];
+        ++total;
       }
     }
+    std::vector<size_t> owner(variables);
+    size_t seen = 0;
+    for (size_t v = 0; v < variables; ++v) {
+      owner[v] = std::min(threads - 1, seen * threads / std::max<size_t>(total, 1));
+      seen += ends[v];
+    }
+    visits.assign(threads, {});
+    for (size_t k = 0; k < terms.size(); ++k) {
+      const long vi = variable[terms[k].i], vj = variable[terms[k].j];
+      const size_t cost_owner = vi != kNone ? owner[vi] : vj != kNone ? owner[vj] : 0;
+      for (size_t t = 0; t < threads; ++t) {
+        uint8_t parts = t == cost_owner ? kOwnCost : 0;
+        if (vi != kNone && owner[vi] == t) parts |= kOwnI;
+        if (vj != kNone && owner[vj] == t) parts |= kOwnJ;
+        if (vi != kNone && vj != kNone && vi != vj && owner[std::max(vi, vj)] == t) parts |= kOwnIJ;
+        if (parts != 0) visits[t].push_back({static_cast<uint32_t>(k), parts});
+      }
+    }
+  }
+
+  // Adds term k's parts (Part) at `poses` to H, g and term_cost; false if it cannot be evaluated.
+  bool linearizeTerm(size_t k, uint8_t parts, const std::vector<PoseParameters>& poses, double w,
+                     Eigen::VectorXd& g, Residual& r, JacobianRows& J_i, JacobianRows& J_j) {
+    if (!evaluate(k, poses, r, &J_i, &J_j)) return false;
+    if (parts & kOwnCost) term_cost[k] = 0.5 * w * r.squaredNorm();
+    const long vi = variable[terms[k].i], vj = variable[terms[k].j];
+    const TermBlocks& b = term_blocks[k];
+    if (parts & kOwnI) {
+      add(b.ii, w * J_i.transpose() * J_i, true);
+      g.segment<6>(6 * vi) += w * J_i.transpose() * r;
+    }
+    if (parts & kOwnJ) {
+      add(b.jj, w * J_j.transpose() * J_j, true);
+      g.segment<6>(6 * vj) += w * J_j.transpose() * r;
+    }
+    if (parts & kOwnIJ) {
+      const Block m = vi < vj ? Block(w * J_i.transpose() * J_j) : Block(w * J_j.transpose() * J_i);
+      add(b.ij, m, false);
+    }
+    return true;
+  }
+
+  // H = J^T W J into the CHOLMOD values, g = J^T W r; returns the cost (infinity on failure). With
+  // threads > 1 each H block, g segment and cost is summed by one thread in term order, so the
+  // result is the one thread's to the bit.
+  double linearize(const std::vector<PoseParameters>& poses, const std::vector<double>& weights,
+                   Eigen::VectorXd& g, int requested_threads) {
+    std::fill_n(static_cast<double*>(H->x), H->nzmax, 0.0);
+    g.setZero(static_cast<Eigen::Index>(6 * variables));
+    const size_t threads = threadsFor(requested_threads);
+    if (threads == 1) {
+      double total = 0.0;
+      Residual r;
+      JacobianRows J_i, J_j;
+      for (size_t k = 0; k < terms.size(); ++k) {
+        const double w = k < weights.size() ? weights[k] : 1.0;
+        if (w == 0.0) continue;
+        const uint8_t parts = (variable[terms[k].i] != kNone ? kOwnI : 0) |
+                              (variable[terms[k].j] != kNone ? kOwnJ : 0);
+        const uint8_t all = parts | (parts == (kOwnI | kOwnJ) ? kOwnIJ : 0);
+        if (!linearizeTerm(k, all, poses, w, g, r, J_i, J_j)) return HUGE_VAL;
+        total += 0.5 * w * r.squaredNorm();
+      }
+      return std::isfinite(total) ? total : HUGE_VAL;
+    }
+    partition(threads);
+    term_cost.assign(terms.size(), 0.0);
+    std::vector<char> failed(threads, 0);
+    runOn(threads, [&](size_t t) {
+      Residual r;
+      JacobianRows J_i, J_j;
+      for (const Visit& visit : visits[t]) {
+        const double w = visit.term < weights.size() ? weights[visit.term] : 1.0;
+        if (w == 0.0) continue;
+        if (!linearizeTerm(visit.term, visit.parts, poses, w, g, r, J_i, J_j)) {
+          failed[t] = 1;
+          return;
+        }
+      }
+    });
+    if (std::find(failed.begin(), failed.end(), 1) != failed.end()) return HUGE_VAL;
+    double total = 0.0;
+    for (const double c : term_cost) total += c;
     return std::isfinite(total) ? total : HUGE_VAL;
   }
 };
@@ -346,7 +464,7 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
   if (m.L == nullptr || m.H == nullptr) return finish("the symbolic factorization failed");
   const size_t n = 6 * m.variables;
   Eigen::VectorXd g;
-  double cost = m.linearize(poses, weights, g);
+  double cost = m.linearize(poses, weights, g, options.threads);
   summary.initial_cost = summary.final_cost = cost;
   if (!std::isfinite(cost)) return finish("the initial cost is not finite");
   summary.usable = true;
@@ -362,7 +480,7 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
   std::string why = "no convergence";
   while (summary.iterations < options.max_iterations) {
     if (!linearized) {
-      cost = m.linearize(poses, weights, g);
+      cost = m.linearize(poses, weights, g, options.threads);
       linearized = true;
     }
     if (g.lpNorm<Eigen::Infinity>() <= options.gradient_tolerance) {
@@ -420,7 +538,7 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
         why = "parameter tolerance reached";
         break;
       }
-      const double new_cost = m.cost(candidate, weights);
+      const double new_cost = m.cost(candidate, weights, options.threads);
       if (std::isfinite(new_cost)) {
         invalid_steps = 0;
         const double decrease = cost - new_cost;

@@ -43,6 +43,10 @@ struct LmOptions {
   double function_tolerance = 1e-4;
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-10;
+  /// Threads that linearize and evaluate the cost (from 4,096 terms; fewer: one). Each block of
+  /// H, segment of g and term's cost is summed by one thread in term order: the steps are those
+  /// of one thread to the bit.
+  int threads = 1;
 };
 
 struct LmSummary {
