@@ -222,6 +222,65 @@ TEST(Reconciliation, IcpVerdictsAreReusedWhileThePairKeepsItsRelativePlacement) 
   EXPECT_FALSE(checked[0].T_target_source.has_value());  // turned past 20 degrees: plain factor
 }
 
+// The candidates' ICP on several threads: each pair's verdict and measurement, and the order of
+// the kept candidates, are those of one thread (pairs measured, kept as the plain factor, passed
+// without ICP).
+TEST(Reconciliation, IcpOnSeveralThreadsGivesTheVerdictsOfOne) {
+  const Eigen::Vector3d size(1.2, 0.6, 0.9);
+  SceneGraph g;
+  Mesh mesh_a, mesh_b;
+  std::vector<MergeCandidate> candidates;
+  const double turns_deg[] = {3.0, 35.0, 0.0, 8.0, 1.0, 60.0, 12.0};
+  for (uint64_t i = 0; i < 7; ++i) {
+    Eigen::Isometry3d at = Eigen::Isometry3d::Identity();
+    at.translation() = Eigen::Vector3d(10.0 * i, 3.0, 0.5);
+    Eigen::Isometry3d other = at;
+    other.linear() =
+        Eigen::AngleAxisd(turns_deg[i] * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    other.translation() += Eigen::Vector3d(0.02 * i, -0.1, 0.0);
+    meshedObject(g, mesh_a, kA, i, at, size);
+    meshedObject(g, mesh_b, kB, i, other, size);
+    candidates.push_back(
+        {NodeId::station('O', kA, i), NodeId::station('O', kB, i), Layer::kObjects, {}});
+  }
+  candidates.push_back({NodeId::station('P', kA, 0),
+                        NodeId::station('P', kB, 0),
+                        Layer::kPlaces,
+                        {}});  // passes as it is
+  const std::map<RobotId, Eigen::Isometry3d> T = {{kA, Eigen::Isometry3d::Identity()},
+                                                  {kB, Eigen::Isometry3d::Identity()}};
+  const std::map<RobotId, const Mesh*> meshes = {{kA, &mesh_a}, {kB, &mesh_b}};
+  ReconciliationOptions one;
+  one.icp_threads = 1;
+  IcpCache cache_one;
+  const auto by_one = refineObjectMerges(candidates, g, T, meshes, one, nullptr, &cache_one);
+  EXPECT_EQ(cache_one.computed, 7u);
+  size_t measured = 0, plain = 0;
+  for (const MergeCandidate& c : by_one) (c.T_target_source ? measured : plain) += 1;
+  EXPECT_GE(measured, 3u);
+  EXPECT_GE(plain, 3u);  // two turned past 20 degrees, and the place
+  for (const int threads : {2, 3}) {
+    ReconciliationOptions many;
+    many.icp_threads = threads;
+    IcpCache cache_many;
+    const auto by_many = refineObjectMerges(candidates, g, T, meshes, many, nullptr, &cache_many);
+    ASSERT_EQ(by_many.size(), by_one.size()) << threads;
+    for (size_t k = 0; k < by_one.size(); ++k) {
+      EXPECT_EQ(by_many[k].target, by_one[k].target);
+      EXPECT_EQ(by_many[k].source, by_one[k].source);
+      ASSERT_EQ(by_many[k].T_target_source.has_value(), by_one[k].T_target_source.has_value());
+      if (by_one[k].T_target_source) {
+        EXPECT_TRUE(by_many[k].T_target_source->matrix() == by_one[k].T_target_source->matrix());
+      }
+    }
+    EXPECT_EQ(cache_many.computed, cache_one.computed);
+    // The cache's entries as one thread's: the next check reuses them all either way.
+    const auto again = refineObjectMerges(candidates, g, T, meshes, many, nullptr, &cache_many);
+    EXPECT_EQ(cache_many.reused, 7u);
+    EXPECT_EQ(again.size(), by_one.size());
+  }
+}
+
 // An object of the backend graph: its box of `size` at `centre`, its lattice of vertices in the
 // graph's mesh (global frame).
 void labelledObject(SceneGraph& g, RobotId robot, uint64_t index, const Eigen::Vector3d& centre,

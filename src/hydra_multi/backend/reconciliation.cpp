@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <thread>
 #include <tuple>
 
 #include "hydra_multi/core/nearest_neighbors.h"
@@ -157,62 +158,94 @@ std::vector<MergeCandidate> refineObjectMerges(
     }
     return true;
   };
+  // The candidates in order: passed as they are (no ICP), their cached verdict reused, or an ICP
+  // to run (`fits`, on icp_threads threads; each fit depends on its pair alone).
+  struct Fit {
+    std::vector<Eigen::Vector3d> target, source;
+    Eigen::Isometry3d X_target, X_source;
+    IcpCache::Entry entry;
+  };
+  std::vector<Fit> fits;
+  std::vector<const IcpCache::Entry*> reuse(candidates.size(), nullptr);
+  std::vector<long> fit_of(candidates.size(), -1);
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    const MergeCandidate& c = candidates[i];
+    Fit fit{{}, {}, Eigen::Isometry3d::Identity(), Eigen::Isometry3d::Identity(), {}};
+    double target_key = 0.0, source_key = 0.0;
+    if (c.layer != Layer::kObjects || !object(c.target, fit.target, fit.X_target, target_key) ||
+        !object(c.source, fit.source, fit.X_source, source_key) ||
+        fit.target.size() < options.icp_min_vertices ||
+        fit.source.size() < options.icp_min_vertices)
+      continue;
+    // Not kept, or kept as the plain factor, unless ICP measures it.
+    fit.entry = {target_key, source_key, fit.X_target.inverse() * fit.X_source, false,
+                 c.T_target_source};
+    if (cache != nullptr) {
+      const auto it = cache->entries.find({c.target, c.source});
+      const IcpCache::Entry* last = it == cache->entries.end() ? nullptr : &it->second;
+      if (last != nullptr && last->target_key == target_key && last->source_key == source_key) {
+        const Eigen::Isometry3d delta = last->relative.inverse() * fit.entry.relative;
+        if (delta.translation().norm() < 1e-3 && Eigen::AngleAxisd(delta.linear()).angle() < 1e-3) {
+          reuse[i] = last;
+          continue;
+        }
+      }
+    }
+    fit_of[i] = static_cast<long>(fits.size());
+    fits.push_back(std::move(fit));
+  }
+  // A fit's verdict: kept, with the ICP measurement as T_target_source, or not.
+  const auto verdict = [&options](Fit& fit) {
+    const auto found = icp(fit.source, fit.target);
+    if (!found) return;
+    // How far ICP moves the source object and how much it turns it (T's translation alone is
+    // the motion of the global origin: metres for a slight turn of an object far from it).
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& p : fit.source) centroid += p;
+    centroid /= static_cast<double>(fit.source.size());
+    const Eigen::Isometry3d& T = found.value().T_target_source;
+    const double shift = (T * centroid - centroid).norm();
+    const double turn_deg = Eigen::AngleAxisd(T.linear()).angle() * 180.0 / M_PI;
+    if (shift > options.icp_max_shift_m) return;
+    // A wrong fit (the robots are aligned), not a sign of two objects: the plain factor.
+    fit.entry.kept = true;
+    if (turn_deg > options.icp_max_rotation_deg) return;
+    if (double(found.value().inliers.size()) <
+            options.icp_min_paired_share * double(fit.source.size()) ||
+        found.value().rmse > options.icp_max_rmse_m) {
+      fit.entry.kept = false;
+      return;
+    }
+    fit.entry.T_target_source = fit.X_target.inverse() * T * fit.X_source;
+  };
+  const size_t threads =
+      std::max<size_t>(1, std::min<size_t>(static_cast<size_t>(options.icp_threads), fits.size()));
+  const auto work = [&](size_t t) {
+    for (size_t f = t; f < fits.size(); f += threads) verdict(fits[f]);
+  };
+  std::vector<std::thread> helpers;
+  for (size_t t = 1; t < threads; ++t) helpers.emplace_back(work, t);
+  work(0);
+  for (std::thread& helper : helpers) helper.join();
+
   std::map<std::pair<NodeId, NodeId>, IcpCache::Entry> checked;
   size_t reused = 0;
   std::vector<MergeCandidate> kept;
-  for (MergeCandidate& c : candidates) {
-    std::vector<Eigen::Vector3d> target, source;
-    Eigen::Isometry3d X_target, X_source;
-    double target_key = 0.0, source_key = 0.0;
-    if (c.layer != Layer::kObjects || !object(c.target, target, X_target, target_key) ||
-        !object(c.source, source, X_source, source_key) ||
-        target.size() < options.icp_min_vertices || source.size() < options.icp_min_vertices) {
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    MergeCandidate& c = candidates[i];
+    const IcpCache::Entry* entry = reuse[i];
+    if (entry != nullptr) {
+      ++reused;
+    } else if (fit_of[i] >= 0) {
+      entry = &fits[static_cast<size_t>(fit_of[i])].entry;
+    } else {
       kept.push_back(std::move(c));
       continue;
     }
-    IcpCache::Entry entry{target_key, source_key, X_target.inverse() * X_source, false, {}};
-    const IcpCache::Entry* last = nullptr;
-    if (cache != nullptr) {
-      const auto it = cache->entries.find({c.target, c.source});
-      if (it != cache->entries.end()) last = &it->second;
-    }
-    if (last != nullptr && last->target_key == target_key && last->source_key == source_key) {
-      const Eigen::Isometry3d delta = last->relative.inverse() * entry.relative;
-      if (delta.translation().norm() < 1e-3 && Eigen::AngleAxisd(delta.linear()).angle() < 1e-3) {
-        ++reused;
-        checked[{c.target, c.source}] = *last;
-        if (last->kept) {
-          c.T_target_source = last->T_target_source;
-          kept.push_back(std::move(c));
-        }
-        continue;
-      }
-    }
-    const auto verdict = [&]() -> bool {
-      const auto fit = icp(source, target);
-      if (!fit) return false;
-      // How far ICP moves the source object and how much it turns it (T's translation alone is
-      // the motion of the global origin: metres for a slight turn of an object far from it).
-      Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-      for (const Eigen::Vector3d& p : source) centroid += p;
-      centroid /= static_cast<double>(source.size());
-      const Eigen::Isometry3d& T = fit.value().T_target_source;
-      const double shift = (T * centroid - centroid).norm();
-      const double turn_deg = Eigen::AngleAxisd(T.linear()).angle() * 180.0 / M_PI;
-      if (shift > options.icp_max_shift_m) return false;
-      // A wrong fit (the robots are aligned), not a sign of two objects: the plain factor.
-      if (turn_deg > options.icp_max_rotation_deg) return true;
-      if (double(fit.value().inliers.size()) <
-              options.icp_min_paired_share * double(source.size()) ||
-          fit.value().rmse > options.icp_max_rmse_m)
-        return false;
-      c.T_target_source = X_target.inverse() * fit.value().T_target_source * X_source;
-      return true;
-    };
-    entry.kept = verdict();
-    entry.T_target_source = c.T_target_source;
-    checked[{c.target, c.source}] = entry;
-    if (entry.kept) kept.push_back(std::move(c));
+    checked[{c.target, c.source}] = *entry;
+    if (!entry->kept) continue;
+    c.T_target_source = entry->T_target_source;
+    kept.push_back(std::move(c));
   }
   if (cache != nullptr) {
     cache->entries = std::move(checked);

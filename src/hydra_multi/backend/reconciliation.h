@@ -60,6 +60,7 @@ struct ReconciliationOptions {
   double icp_max_shift_m = 1.0;
   double icp_max_rotation_deg = 20.0;
   size_t icp_min_vertices = 8;  ///< fewer on either side: no ICP, the plain factor
+  int icp_threads = 2;  ///< threads that run the candidates' ICP (each fit is its pair's alone)
   /// Label votes (see the top of this file); objects with fewer than icp_min_vertices vertices
   /// take no part.
   bool label_votes = false;
