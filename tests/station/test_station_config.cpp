@@ -12,6 +12,8 @@ TEST(StationConfig, KeysSetOptions) {
   StationOptions options;
   EXPECT_FALSE(options.backend.deformation.solver.reduce_chains);  // the station's defaults
   EXPECT_TRUE(options.backend.admit_fitting_merges);
+  EXPECT_EQ(options.backend.deformation.solver.solver.linearization_threads, 2);
+  EXPECT_EQ(options.backend.reconciliation.icp_threads, 2);
   const Status s = applyStationConfig(R"({
       "loop_closures": {"object_ambiguity_ratio": 0, "object_rival_distance": 2.5,
                         "anchor_objects": false},
@@ -20,9 +22,9 @@ TEST(StationConfig, KeysSetOptions) {
       "deformation": {"two_stage": false, "final_iterations": 0, "mesh_variance": 0.001,
                       "gnc_mu_step": 2.0, "gnc_incremental_mu_step": 1, "link_max_dt_s": 0,
                       "odometry_rotation_variance": 0.01, "reduce_chains": true,
-                      "chain_min_share": 0.5},
+                      "chain_min_share": 0.5, "linearization_threads": 1},
       "reconciliation": {"enabled": false, "admit_fitting_merges": false,
-                         "place_max_distance": 0.6, "label_votes": true,
+                         "place_max_distance": 0.6, "label_votes": true, "icp_threads": 3,
                          "label_confusion": 0.2, "label_min_odds": 2},
       "rooms": {"enabled": false, "min_room_places": 4, "threshold_rule": "most",
                     "max_door_radius": 0.6}})",
@@ -47,6 +49,8 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_DOUBLE_EQ(options.backend.deformation.odometry_rotation_variance, 0.01);
   EXPECT_TRUE(options.backend.deformation.solver.reduce_chains);
   EXPECT_DOUBLE_EQ(options.backend.deformation.solver.chain_min_share, 0.5);
+  EXPECT_EQ(options.backend.deformation.solver.solver.linearization_threads, 1);
+  EXPECT_EQ(options.backend.reconciliation.icp_threads, 3);
   EXPECT_FALSE(options.backend.reconcile);
   EXPECT_FALSE(options.backend.admit_fitting_merges);
   EXPECT_DOUBLE_EQ(options.backend.reconciliation.place_max_distance, 0.6);

@@ -64,10 +64,12 @@ struct DeformationGraphOptions {
   double place_link_radius = 3.0;  ///< m: a place links to a control point this close, else
                                    ///< to its nearest keyframe
   /// Chains not reduced (RobustPgoOptions::reduce_chains): docs/DECISIONS.md "Chains solved as
-  /// one edge while GNC decides".
+  /// one edge while GNC decides". Two threads linearize (LmOptions::threads): docs/DECISIONS.md
+  /// "The linearization on two threads".
   RobustPgoOptions solver = [] {
     RobustPgoOptions options;
     options.reduce_chains = false;
+    options.solver.linearization_threads = 2;
     return options;
   }();
   bool two_stage = true;  ///< GNC on the skeleton, then one solve of the whole graph

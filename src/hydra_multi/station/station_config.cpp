@@ -124,6 +124,10 @@ const std::map<std::string, std::map<std::string, Setter>>& setters() {
                0)},
         {"reduce_chains",
          flag([](StationOptions& o, bool b) { o.backend.deformation.solver.reduce_chains = b; })},
+        {"linearization_threads",
+         count([](StationOptions& o,
+                  int n) { o.backend.deformation.solver.solver.linearization_threads = n; },
+               1)},
         {"chain_min_share",
          number(
              [](StationOptions& o, double x) { o.backend.deformation.solver.chain_min_share = x; },
@@ -140,6 +144,8 @@ const std::map<std::string, std::map<std::string, Setter>>& setters() {
        {{"enabled", flag([](StationOptions& o, bool b) { o.backend.reconcile = b; })},
         {"admit_fitting_merges",
          flag([](StationOptions& o, bool b) { o.backend.admit_fitting_merges = b; })},
+        {"icp_threads",
+         count([](StationOptions& o, int n) { o.backend.reconciliation.icp_threads = n; }, 1)},
         {"place_max_distance",
          number(
              [](StationOptions& o, double x) { o.backend.reconciliation.place_max_distance = x; },
