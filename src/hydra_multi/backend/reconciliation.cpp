@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
-#include <thread>
 #include <tuple>
 
 #include "hydra_multi/core/nearest_neighbors.h"
+#include "hydra_multi/core/parallel.h"
 #include "hydra_multi/registration/icp.h"
 
 namespace hydra_multi {
@@ -220,13 +220,9 @@ std::vector<MergeCandidate> refineObjectMerges(
   };
   const size_t threads =
       std::max<size_t>(1, std::min<size_t>(static_cast<size_t>(options.icp_threads), fits.size()));
-  const auto work = [&](size_t t) {
+  runOnThreads(threads, [&](size_t t) {
     for (size_t f = t; f < fits.size(); f += threads) verdict(fits[f]);
-  };
-  std::vector<std::thread> helpers;
-  for (size_t t = 1; t < threads; ++t) helpers.emplace_back(work, t);
-  work(0);
-  for (std::thread& helper : helpers) helper.join();
+  });
 
   std::map<std::pair<NodeId, NodeId>, IcpCache::Entry> checked;
   size_t reused = 0;

@@ -8,8 +8,8 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
-#include <thread>
 
+#include "hydra_multi/core/parallel.h"
 #include "hydra_multi/optim/serial_openmp.h"
 #include "hydra_multi/optim/suitesparse_blocks.h"
 
@@ -59,7 +59,7 @@ struct SparseLevenbergMarquardt::Impl {
     long ii = kNone, jj = kNone, ij = kNone;
   };
   std::vector<TermBlocks> term_blocks;
-  // Per thread of the linearization (threads > 1), the terms it visits in order, each with what
+  // Per thread of the linearization, the terms it visits in order, each with what
   // it adds: the blocks (i, i), (j, j), (min, max) of H and g's segments of the variables the
   // thread owns (a contiguous range), and the term's cost if the term's first free pose is one
   // of them (thread 0 for a term between fixed poses).
@@ -69,7 +69,7 @@ struct SparseLevenbergMarquardt::Impl {
     uint8_t parts;
   };
   std::vector<std::vector<Visit>> visits;
-  mutable std::vector<double> term_cost;  // per term, its 1/2 w ||r||^2 (threads > 1)
+  mutable std::vector<double> term_cost;  // per term, its 1/2 w ||r||^2
   cholmod_common common;
   cholmod_sparse* H = nullptr;
   cholmod_factor* L = nullptr;
@@ -127,44 +127,23 @@ struct SparseLevenbergMarquardt::Impl {
     return true;
   }
 
-  // Runs work(t) for t = 0 .. threads-1, t > 0 each on a thread of its own.
-  template <typename Work>
-  static void runOn(size_t threads, const Work& work) {
-    std::vector<std::thread> helpers;
-    for (size_t t = 1; t < threads; ++t) helpers.emplace_back([&work, t] { work(t); });
-    work(0);
-    for (std::thread& helper : helpers) helper.join();
-  }
-
   size_t threadsFor(int requested) const {
     if (requested <= 1 || terms.size() < kThreadsFrom) return 1;
     return std::min<size_t>(static_cast<size_t>(requested), 8);
   }
 
-  // 1/2 sum_k w_k ||r_k||^2 (summed in term order whatever the threads); infinity if a residual
-  // cannot be evaluated or is not finite.
+  // 1/2 sum_k w_k ||r_k||^2, summed in term order from per-term values whatever the threads;
+  // infinity if a residual cannot be evaluated or is not finite.
   double cost(const std::vector<PoseParameters>& poses, const std::vector<double>& weights,
               int requested_threads) const {
     const size_t threads = threadsFor(requested_threads);
-    double total = 0.0;
-    if (threads == 1) {
-      Residual r;
-      for (size_t k = 0; k < terms.size(); ++k) {
-        const double w = k < weights.size() ? weights[k] : 1.0;
-        if (w == 0.0) continue;
-        if (!evaluate(k, poses, r, nullptr, nullptr)) return HUGE_VAL;
-        total += 0.5 * w * r.squaredNorm();
-      }
-      return std::isfinite(total) ? total : HUGE_VAL;
-    }
-    term_cost.resize(terms.size());
+    term_cost.assign(terms.size(), 0.0);
     std::vector<char> failed(threads, 0);
-    runOn(threads, [&](size_t t) {
+    runOnThreads(threads, [&](size_t t) {
       Residual r;
       const size_t first = terms.size() * t / threads, last = terms.size() * (t + 1) / threads;
       for (size_t k = first; k < last; ++k) {
         const double w = k < weights.size() ? weights[k] : 1.0;
-        term_cost[k] = 0.0;
         if (w == 0.0) continue;
         if (!evaluate(k, poses, r, nullptr, nullptr)) {
           failed[t] = 1;
@@ -173,7 +152,13 @@ struct SparseLevenbergMarquardt::Impl {
         term_cost[k] = 0.5 * w * r.squaredNorm();
       }
     });
+    return summedCost(failed);
+  }
+
+  // The sum of term_cost in term order; infinity if a thread failed or it is not finite.
+  double summedCost(const std::vector<char>& failed) const {
     if (std::find(failed.begin(), failed.end(), 1) != failed.end()) return HUGE_VAL;
+    double total = 0.0;
     for (const double c : term_cost) total += c;
     return std::isfinite(total) ? total : HUGE_VAL;
   }
@@ -233,33 +218,18 @@ struct SparseLevenbergMarquardt::Impl {
     return true;
   }
 
-  // H = J^T W J into the CHOLMOD values, g = J^T W r; returns the cost (infinity on failure). With
-  // threads > 1 each H block, g segment and cost is summed by one thread in term order, so the
-  // result is the one thread's to the bit.
+  // H = J^T W J into the CHOLMOD values, g = J^T W r; returns the cost (infinity on failure). Each
+  // H block, g segment and term's cost is summed by one thread in term order, so the result is
+  // the same to the bit whatever the threads.
   double linearize(const std::vector<PoseParameters>& poses, const std::vector<double>& weights,
                    Eigen::VectorXd& g, int requested_threads) {
     std::fill_n(static_cast<double*>(H->x), H->nzmax, 0.0);
     g.setZero(static_cast<Eigen::Index>(6 * variables));
     const size_t threads = threadsFor(requested_threads);
-    if (threads == 1) {
-      double total = 0.0;
-      Residual r;
-      JacobianRows J_i, J_j;
-      for (size_t k = 0; k < terms.size(); ++k) {
-        const double w = k < weights.size() ? weights[k] : 1.0;
-        if (w == 0.0) continue;
-        const uint8_t parts = (variable[terms[k].i] != kNone ? kOwnI : 0) |
-                              (variable[terms[k].j] != kNone ? kOwnJ : 0);
-        const uint8_t all = parts | (parts == (kOwnI | kOwnJ) ? kOwnIJ : 0);
-        if (!linearizeTerm(k, all, poses, w, g, r, J_i, J_j)) return HUGE_VAL;
-        total += 0.5 * w * r.squaredNorm();
-      }
-      return std::isfinite(total) ? total : HUGE_VAL;
-    }
     partition(threads);
     term_cost.assign(terms.size(), 0.0);
     std::vector<char> failed(threads, 0);
-    runOn(threads, [&](size_t t) {
+    runOnThreads(threads, [&](size_t t) {
       Residual r;
       JacobianRows J_i, J_j;
       for (const Visit& visit : visits[t]) {
@@ -271,10 +241,7 @@ struct SparseLevenbergMarquardt::Impl {
         }
       }
     });
-    if (std::find(failed.begin(), failed.end(), 1) != failed.end()) return HUGE_VAL;
-    double total = 0.0;
-    for (const double c : term_cost) total += c;
-    return std::isfinite(total) ? total : HUGE_VAL;
+    return summedCost(failed);
   }
 };
 
