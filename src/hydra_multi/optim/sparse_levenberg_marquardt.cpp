@@ -7,9 +7,11 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "hydra_multi/core/parallel.h"
+#include "hydra_multi/optim/fill_reducing_ordering.h"
 #include "hydra_multi/optim/serial_openmp.h"
 #include "hydra_multi/optim/suitesparse_blocks.h"
 
@@ -354,46 +356,23 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
     if (values) std::fill_n(static_cast<double*>(A->x), at, 0.0);
     return A;
   };
-  // Fill-reducing ordering of the variables, once: AMD, and on larger graphs METIS too (the one
-  // with the sparser factor is kept), postordered; small supernodes merged more than by default.
+  // Fill-reducing ordering of the variables, once.
+  const std::optional<FillReducingOrdering> ordering = orderForCholesky(rows, kBothOrderingsFrom);
+  if (!ordering) return;                    // solve() reports it
+  std::vector<long> position(m.variables);  // variable -> its place in A
+  for (size_t k = 0; k < m.variables; ++k) position[ordering->column[k]] = static_cast<long>(k);
+  m.permuted.resize(n);
+  for (size_t v = 0; v < m.variables; ++v) {
+    for (int c = 0; c < 6; ++c) m.permuted[6 * v + c] = 6 * position[v] + c;
+  }
+  // The symbolic factorization of A in its natural order, which the ordering already postordered;
+  // small supernodes merged more than by default.
   m.common.nrelax[0] = 16;
   m.common.nrelax[1] = 64;
   m.common.nrelax[2] = 256;
   m.common.zrelax[0] = 0.8;
   m.common.zrelax[1] = 0.2;
   m.common.zrelax[2] = 0.1;
-  m.common.nmethods = 1;
-  m.common.method[0].ordering = CHOLMOD_AMD;
-  if (m.variables >= kBothOrderingsFrom) {
-    m.common.nmethods = 2;
-    m.common.method[1].ordering = CHOLMOD_METIS;
-  }
-  cholmod_sparse* blocks = cholmod_l_allocate_sparse(m.variables, m.variables, block_at.size(), 1,
-                                                     1, 1, CHOLMOD_PATTERN, &m.common);
-  if (blocks == nullptr) return;  // solve() reports it
-  {
-    auto* column_start = static_cast<SuiteSparse_long*>(blocks->p);
-    auto* row_index = static_cast<SuiteSparse_long*>(blocks->i);
-    long at = 0;
-    for (size_t c = 0; c < m.variables; ++c) {
-      column_start[c] = at;
-      for (const long r : rows[c]) row_index[at++] = r;
-    }
-    column_start[m.variables] = at;
-  }
-  m.common.supernodal = CHOLMOD_SIMPLICIAL;  // the ordering only
-  cholmod_factor* ordered = cholmod_l_analyze(blocks, &m.common);
-  cholmod_l_free_sparse(&blocks, &m.common);
-  if (ordered == nullptr) return;
-  std::vector<long> position(m.variables);  // variable -> its place in A
-  const auto* perm = static_cast<const SuiteSparse_long*>(ordered->Perm);
-  for (size_t k = 0; k < m.variables; ++k) position[perm[k]] = static_cast<long>(k);
-  cholmod_l_free_factor(&ordered, &m.common);
-  m.permuted.resize(n);
-  for (size_t v = 0; v < m.variables; ++v) {
-    for (int c = 0; c < 6; ++c) m.permuted[6 * v + c] = 6 * position[v] + c;
-  }
-  // The symbolic factorization of A in its natural order, which the ordering already postordered.
   m.H = store(position, -1, true);
   if (m.H == nullptr) return;
   m.common.supernodal = CHOLMOD_AUTO;

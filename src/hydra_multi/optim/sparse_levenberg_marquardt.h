@@ -11,8 +11,9 @@
 // Invariant: the sparsity of H (one 6x6 block per pose and per pair of poses a term joins, whatever
 // its weight, zero included) is fixed at construction, so CHOLMOD orders and analyzes it once and
 // every later factorization, in every solve, is numeric only. The poses are ordered as blocks
-// (AMD, METIS on large graphs, postordered) and H is assembled in that order, so CHOLMOD factors
-// it as stored, without permuting it per factorization.
+// (fill_reducing_ordering.h: AMD, or METIS on large graphs where it takes fewer flops) and H is
+// assembled in that order, so CHOLMOD factors it as stored, without permuting it per
+// factorization.
 
 #include <Eigen/Geometry>
 #include <memory>
