@@ -3,8 +3,9 @@
 // (alignment, graph assembly, GNC, the whole-graph solve, the backend graph, rooms), the robots
 // new or re-aligned since the last round (afresh), the size of the deformation graph, the robust
 // factors taken as decided from the last round and those decided again, the pose-graph
-// solves, the poses the whole-graph solve moved (moved) and the mesh vertices deformed anew
-// (meshed; the others kept from the last round, MeshBinding). With --every K, a round also runs
+// solves, the poses the whole-graph solve moved (moved), whether that solve took the analysis
+// made ahead while GNC ran (ahead: 1) and the mesh vertices deformed anew (meshed; the others
+// kept from the last round, MeshBinding). With --every K, a round also runs
 // after every K updates, as an online station whose backend keeps up would run them. Build in
 // Release (`make bench-backend`).
 //
@@ -151,12 +152,12 @@ int main(int argc, char** argv) {
     std::printf(
         "%7s  %3zu/%-3zu  %6zu  %5zu  %7zu  %5zu  %4zu/%-4zu  %4zu/%-4zu  %5zu/%-3zu  %5zu  %6d  "
         "%7.2f  "
-        "%7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %6zu  %7zu  %8ld  %8ld  %7.4f%s\n",
+        "%7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %6zu  %5d  %7zu  %8ld  %8ld  %7.4f%s\n",
         name.c_str(), r.robots_aligned, r.robots, r.robots_afresh, r.variables, r.factors, r.nodes,
         r.inter_robot_inliers, r.inter_robot_loop_closures, r.merges_accepted, r.merges_proposed,
         r.verdicts_known, r.verdicts_redecided, r.merges_admitted, r.solves, r.alignment_s,
         r.build_s, r.gnc_s, r.whole_graph_s, r.graph_s, r.rooms_s, r.time_s, r.whole_graph_free,
-        r.vertices_blended, wrong, across, ate, apart.c_str());
+        r.whole_graph_ahead ? 1 : 0, r.vertices_blended, wrong, across, ate, apart.c_str());
     std::fflush(stdout);
     last_wrong = wrong;
     last_ate = ate;
@@ -165,7 +166,8 @@ int main(int argc, char** argv) {
   const char* header =
       "  round  aligned  afresh  poses  factors  nodes  kept/lc    merges     known/redo  admit  "
       "solves  "
-      "align_s  build_s    gnc_s  whole_s  graph_s  rooms_s  total_s   moved   meshed  lc_wrong  "
+      "align_s  build_s    gnc_s  whole_s  graph_s  rooms_s  total_s   moved  ahead   meshed  "
+      "lc_wrong  "
       "merges_x   "
       " ate_m\n";
   if (every > 0) std::printf("%s", header);

@@ -147,6 +147,56 @@ TEST(DeformationGraph, LoopClosuresCorrectDriftAndOutliersAreRejected) {
   EXPECT_EQ(accepted_bad, 0u);
 }
 
+// The whole-graph solve's analysis made while GNC runs, for the robust factors GNC starts with all
+// kept: taken where GNC keeps just those (every closure true; the wrong ones held out from the
+// start), analyzed anew where it does not (wrong closures GNC rejects); the same poses to the bit
+// as without it in all three.
+TEST(DeformationGraph, TheWholeGraphAnalysisMadeAheadIsTakenWhereGncKeptWhatItExpected) {
+  SceneGraph frontend;
+  Robot a = drive(RobotId(0), 0.0, 0.0, frontend);
+  Robot b = drive(RobotId(1), M_PI, 0.005, frontend);
+  std::vector<PoseGraphEdge> inter = trueClosures(a, b);
+  const size_t good = inter.size();
+  std::set<std::pair<NodeId, NodeId>> wrong;
+  for (int i = 0; i < 4; ++i) {
+    PoseGraphEdge e = inter.front();
+    e.from = keyframe(a, 7 * i + 1);
+    e.to = keyframe(b, 11 * i + 5);
+    Vector6d off;
+    off << 3.0 * std::cos(i), 3.0 * std::sin(i), 0.0, 0.0, 0.0, M_PI / 4;
+    e.T_from_to = a.truth[7 * i + 1].inverse() * b.truth[11 * i + 5] * expSE3(off);
+    inter.push_back(e);
+    wrong.insert({e.from, e.to});
+  }
+  const std::vector<RobotDeformationInput> inputs =
+      twoRobots(a, b, a.truth.front().inverse() * b.truth.front());
+  DeformationGraphOptions ahead, own;
+  ahead.use_sent_information = own.use_sent_information = true;
+  own.whole_graph_analysis_ahead = false;
+  const auto solve = [&](size_t closures, const std::set<std::pair<NodeId, NodeId>>& held_out,
+                         bool expect_ahead, const char* what) {
+    const std::vector<PoseGraphEdge> these(inter.begin(), inter.begin() + closures);
+    const DeformationGraph graph = buildDeformationGraph(frontend, inputs, these, {}, ahead);
+    const DeformationResult with = optimizeDeformationGraph(graph, ahead, held_out);
+    const DeformationResult without = optimizeDeformationGraph(graph, own, held_out);
+    EXPECT_EQ(with.whole_graph_analyzed_ahead, expect_ahead) << what;
+    EXPECT_FALSE(without.whole_graph_analyzed_ahead) << what;
+    EXPECT_EQ(with.robust_inlier, without.robust_inlier) << what;
+    ASSERT_EQ(with.poses.size(), without.poses.size()) << what;
+    for (const auto& [id, pose] : with.poses)
+      EXPECT_TRUE(pose.matrix() == without.poses.at(id).matrix()) << what << ": " << id.str();
+    size_t kept_wrong = 0;
+    for (const auto& edge : wrong) {
+      const auto it = with.robust_inlier.find(edge);
+      kept_wrong += it != with.robust_inlier.end() && it->second;
+    }
+    EXPECT_EQ(kept_wrong, 0u) << what;
+  };
+  solve(good, {}, true, "true closures");
+  solve(inter.size(), {}, false, "wrong closures GNC rejects");
+  solve(inter.size(), wrong, true, "wrong closures held out");
+}
+
 // A round after another, robot b 10 keyframes further: the whole-graph solve started from the
 // last round's solution moves only the nodes near what changed, and ends where the solve of the
 // whole graph ends, within the solver's own tolerance.

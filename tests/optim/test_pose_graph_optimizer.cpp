@@ -2,11 +2,13 @@
 
 #include <random>
 #include <set>
+#include <thread>
 
 #include "hydra_multi/optim/chordal_initialization.h"
 #include "hydra_multi/optim/io/g2o_format.h"
 #include "hydra_multi/optim/outlier_injection.h"
 #include "hydra_multi/optim/pose_graph_optimizer.h"
+#include "hydra_multi/optim/sparse_levenberg_marquardt.h"
 #include "support/random_graphs.h"
 
 namespace hydra_multi {
@@ -326,6 +328,49 @@ TEST(PoseGraphOptimizer, LinearizationThreadsTakeTheStepsOfOneThreadToTheBit) {
       ASSERT_TRUE(T.matrix() == many_poses.at(id).matrix()) << id.str() << ", " << threads;
     }
   }
+}
+
+// An analysis made ahead on another thread (PoseGraphOptimizerOptions::analyses, keep_analysis) is
+// taken by a later problem of its pattern alone, which then takes the steps of a problem that
+// analyzes its own, to the bit; problems with another term or other fixed poses leave it.
+TEST(PoseGraphOptimizer, AnAnalysisMadeAheadIsTakenByItsPatternAlone) {
+  const PoseGraph g = sphere2500();
+  ASSERT_FALSE(g.poses.empty());
+  const NodeId anchor = g.poses.begin()->first;
+  PoseGraphOptimizerOptions own;
+  own.max_iterations = 3;
+  const auto analyses = std::make_shared<SparseAnalyses>();
+  std::thread([&] {
+    PoseGraphOptimizerOptions prepare = own;
+    prepare.max_iterations = 0;
+    prepare.analyses = analyses;
+    prepare.keep_analysis = true;
+    PoseGraphProblem(g, g.poses, anchor, prepare).solve();
+  }).join();
+  ASSERT_TRUE(analyses->holds());
+  PoseGraphOptimizerOptions take = own;
+  take.analyses = analyses;
+
+  PoseGraph moved = g;  // as many terms, one of them between other poses
+  moved.edges.back().to = std::next(g.poses.begin(), 3)->first;
+  PoseGraphProblem(moved, moved.poses, anchor, take).solve();
+  EXPECT_TRUE(analyses->holds());
+  PoseGraphProblem held(g, g.poses, anchor, take);
+  held.holdConstant({std::next(g.poses.begin(), 5)->first});
+  held.solve();
+  EXPECT_TRUE(analyses->holds());
+
+  PoseGraphProblem taking(g, g.poses, anchor, take);
+  const SolveSummary taken = taking.solve();
+  EXPECT_FALSE(analyses->holds());
+  PoseGraphProblem analyzing(g, g.poses, anchor, own);
+  const SolveSummary analyzed = analyzing.solve();
+  EXPECT_TRUE(taken.usable) << taken.message;
+  EXPECT_EQ(taken.iterations, 3);
+  EXPECT_EQ(taken.final_cost, analyzed.final_cost);
+  const auto taken_poses = taking.poses(), analyzed_poses = analyzing.poses();
+  for (const auto& [id, T] : analyzed_poses)
+    ASSERT_TRUE(T.matrix() == taken_poses.at(id).matrix()) << id.str();
 }
 
 }  // namespace

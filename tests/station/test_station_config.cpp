@@ -14,6 +14,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_TRUE(options.backend.admit_fitting_merges);
   EXPECT_EQ(options.backend.deformation.solver.solver.linearization_threads, 2);
   EXPECT_EQ(options.backend.reconciliation.icp_threads, 2);
+  EXPECT_TRUE(options.backend.deformation.whole_graph_analysis_ahead);
   const Status s = applyStationConfig(R"({
       "loop_closures": {"object_ambiguity_ratio": 0, "object_rival_distance": 2.5,
                         "anchor_objects": false},
@@ -22,7 +23,8 @@ TEST(StationConfig, KeysSetOptions) {
       "deformation": {"two_stage": false, "final_iterations": 0, "mesh_variance": 0.001,
                       "gnc_mu_step": 2.0, "gnc_incremental_mu_step": 1, "link_max_dt_s": 0,
                       "odometry_rotation_variance": 0.01, "reduce_chains": true,
-                      "chain_min_share": 0.5, "linearization_threads": 1},
+                      "chain_min_share": 0.5, "linearization_threads": 1,
+                      "whole_graph_analysis_ahead": false},
       "reconciliation": {"enabled": false, "admit_fitting_merges": false,
                          "place_max_distance": 0.6, "label_votes": true, "icp_threads": 3,
                          "label_confusion": 0.2, "label_min_odds": 2},
@@ -50,6 +52,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_TRUE(options.backend.deformation.solver.reduce_chains);
   EXPECT_DOUBLE_EQ(options.backend.deformation.solver.chain_min_share, 0.5);
   EXPECT_EQ(options.backend.deformation.solver.solver.linearization_threads, 1);
+  EXPECT_FALSE(options.backend.deformation.whole_graph_analysis_ahead);
   EXPECT_EQ(options.backend.reconciliation.icp_threads, 3);
   EXPECT_FALSE(options.backend.reconcile);
   EXPECT_FALSE(options.backend.admit_fitting_merges);

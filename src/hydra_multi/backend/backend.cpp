@@ -361,6 +361,7 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   report.solves += result.solve.solves + (result.whole_graph_free > 0 ? 1 : 0);
   report.whole_graph_s = result.whole_graph_s;
   report.whole_graph_free = result.whole_graph_free;
+  report.whole_graph_ahead = result.whole_graph_analyzed_ahead;
   report.gnc_s = lap() - result.whole_graph_s;
   recordVerdicts(team, inter_robot, result, report);
   rememberForNextRound(frontend, graph, result, proposal_poses, proposals.held_out,

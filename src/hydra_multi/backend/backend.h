@@ -106,6 +106,8 @@ struct BackendRoundReport {
   /// Poses the whole-graph solve moved (DeformationGraphOptions::local_whole_graph: those near
   /// what changed since the last round; else all).
   size_t whole_graph_free = 0;
+  /// The whole-graph solve took its analysis made ahead (whole_graph_analysis_ahead).
+  bool whole_graph_ahead = false;
   /// Mesh vertices the round deformed anew (MeshBinding; the others kept from the last round).
   size_t vertices_blended = 0;
   bool from_scratch = false;  ///< the round took nothing from the last one

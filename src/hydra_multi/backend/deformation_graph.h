@@ -88,6 +88,11 @@ struct DeformationGraphOptions {
   double local_move_rad = 1e-3;
   int local_hops = 1;
   double local_max_share = 0.5;
+  /// The whole-graph solve's sparse analysis (ordering, symbolic factorization) made on a second
+  /// thread while GNC solves the skeleton, for the factors GNC is expected to keep (every robust
+  /// factor it starts with, none it holds out); the solve takes it where GNC kept just those, and
+  /// analyzes its own otherwise. The same solve either way, to the bit.
+  bool whole_graph_analysis_ahead = true;
 };
 
 /// The control point node id of robot r's control point `index`.
@@ -117,6 +122,8 @@ struct DeformationResult {
   double whole_graph_s = 0.0;   ///< the whole-graph solve after it (two_stage)
   size_t whole_graph_free = 0;  ///< poses that solve moved (local_whole_graph: not all)
   size_t admitted = 0;          ///< held-out factors known as they fit the start (admit_if_fitting)
+  /// The whole-graph solve took the analysis made ahead (whole_graph_analysis_ahead).
+  bool whole_graph_analyzed_ahead = false;
 };
 
 /// What a solve may take from earlier ones: poses to start from instead of the graph's initial

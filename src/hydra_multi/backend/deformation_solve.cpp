@@ -3,9 +3,13 @@
 #include "hydra_multi/backend/deformation_graph.h"
 
 #include <chrono>
+#include <future>
+#include <memory>
 #include <optional>
 #include <set>
 #include <unordered_map>
+
+#include "hydra_multi/optim/sparse_levenberg_marquardt.h"
 
 namespace hydra_multi {
 namespace {
@@ -67,6 +71,52 @@ size_t admitFitting(const PoseGraph& graph, const std::map<NodeId, Eigen::Isomet
     solver.known_inlier[k] = true;
   }
   return fit.size();
+}
+
+// The whole graph with the robust factors (from, to) `kept` says true of, and every other factor.
+PoseGraph wholeGraph(const DeformationGraph& graph,
+                     const std::map<std::pair<NodeId, NodeId>, bool>& kept) {
+  PoseGraph whole;
+  whole.edges.reserve(graph.graph.edges.size());
+  for (const PoseGraphEdge& e : graph.graph.edges) {
+    if (e.kind == PoseGraphEdge::Kind::kLoopClosure) {
+      const auto it = kept.find({e.from, e.to});
+      if (it == kept.end() || !it->second) continue;
+    }
+    whole.edges.push_back(e);
+  }
+  return whole;
+}
+
+// The whole-graph solve's options: least squares over what GNC kept, sparse Cholesky.
+RobustPgoOptions wholeGraphSolver(const DeformationGraphOptions& options) {
+  RobustPgoOptions plain = options.solver;
+  plain.robust = false;
+  plain.solver.max_iterations = options.final_iterations;
+  plain.solver.linear_solver = PoseGraphOptimizerOptions::LinearSolver::kSparseCholesky;
+  return plain;
+}
+
+// The sparse analysis of the whole-graph solve GNC's result is expected to lead to (the robust
+// factors of `robust` it starts with all kept, those it holds out all rejected), made into
+// `ahead` (PoseGraphOptimizerOptions::analyses). Its nodes are the whole graph's, as the solve's.
+void analyzeWholeGraphAhead(const DeformationGraph& graph, const PoseGraph& robust,
+                            const std::vector<bool>& held_out,
+                            const DeformationGraphOptions& options,
+                            const std::shared_ptr<SparseAnalyses>& ahead) {
+  std::map<std::pair<NodeId, NodeId>, bool> expected;
+  for (size_t k = 0; k < robust.edges.size(); ++k) {
+    const PoseGraphEdge& e = robust.edges[k];
+    if (e.kind == PoseGraphEdge::Kind::kLoopClosure) expected[{e.from, e.to}] = !held_out[k];
+  }
+  std::map<NodeId, Eigen::Isometry3d> nodes = graph.initial;
+  for (const auto& [id, pose] : robust.poses) nodes.emplace(id, pose);
+  RobustPgoOptions analyze = wholeGraphSolver(options);
+  analyze.solver.max_iterations = 0;
+  analyze.solver.linearization_threads = 1;
+  analyze.solver.analyses = ahead;
+  analyze.solver.keep_analysis = true;
+  optimizePoseGraph(wholeGraph(graph, expected), nodes, graph.anchor, analyze);
 }
 
 }  // namespace
@@ -136,7 +186,21 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
   if (warm != nullptr && !warm->admit_if_fitting.empty())
     result.admitted =
         admitFitting(robust, initial_poses, graph.anchor, warm->admit_if_fitting, solver);
+  // The whole-graph solve's analysis on a second thread while GNC runs (a failure there leaves
+  // the solve to analyze its own).
+  std::shared_ptr<SparseAnalyses> ahead;
+  std::future<void> analyzing;
+  if (options.two_stage && options.final_iterations > 0 && options.whole_graph_analysis_ahead) {
+    ahead = std::make_shared<SparseAnalyses>();
+    analyzing = std::async(std::launch::async, [&graph, &robust, &solver, &options, &ahead] {
+      try {
+        analyzeWholeGraphAhead(graph, robust, solver.held_out, options, ahead);
+      } catch (const std::exception&) {
+      }
+    });
+  }
   result.solve = optimizePoseGraph(robust, initial_poses, graph.anchor, solver);
+  if (analyzing.valid()) analyzing.wait();
   result.poses = result.solve.poses;
   for (size_t i = 0; i < robust.edges.size(); ++i) {
     const PoseGraphEdge& e = robust.edges[i];
@@ -148,15 +212,7 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
   // The whole graph with the robust factors GNC kept, from the skeleton's solution: control
   // points start where the keyframe that observed them moved them.
   const auto whole_start = std::chrono::steady_clock::now();
-  PoseGraph whole;
-  whole.edges.reserve(graph.graph.edges.size());
-  for (const PoseGraphEdge& e : graph.graph.edges) {
-    if (e.kind == PoseGraphEdge::Kind::kLoopClosure) {
-      const auto kept = result.robust_inlier.find({e.from, e.to});
-      if (kept == result.robust_inlier.end() || !kept->second) continue;
-    }
-    whole.edges.push_back(e);
-  }
+  const PoseGraph whole = wholeGraph(graph, result.robust_inlier);
   std::map<NodeId, Eigen::Isometry3d> initial = result.poses;
   for (const auto& [id, pose] : graph.initial) {
     if (initial.count(id)) continue;
@@ -182,15 +238,15 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
       pose = now->second * skeleton_then->second.inverse() * then->second;
     }
   }
-  RobustPgoOptions plain = options.solver;
-  plain.robust = false;
-  plain.solver.max_iterations = options.final_iterations;
-  plain.solver.linear_solver = PoseGraphOptimizerOptions::LinearSolver::kSparseCholesky;
+  RobustPgoOptions plain = wholeGraphSolver(options);
   const std::optional<std::set<NodeId>> changed = options.local_whole_graph && warm != nullptr
                                                       ? changedNodes(whole, initial, *warm, options)
                                                       : std::nullopt;
   if (!changed || changed->size() > options.local_max_share * initial.size()) {
+    const bool prepared = ahead != nullptr && ahead->holds();
+    plain.solver.analyses = ahead;
     const RobustPgoResult solved = optimizePoseGraph(whole, initial, graph.anchor, plain);
+    result.whole_graph_analyzed_ahead = prepared && !ahead->holds();
     if (solved.usable) result.poses = solved.poses;
     result.whole_graph_free = initial.size();
   } else {

@@ -89,7 +89,8 @@ struct PoseGraphProblem::Impl {
       if (e.active()) terms.push_back({e.cost.get(), e.i, e.j});
     }
     lm = std::make_unique<SparseLevenbergMarquardt>(blocks.size(), std::move(terms), fixedBlocks(),
-                                                    *rotation);
+                                                    *rotation, options.analyses.get(),
+                                                    options.keep_analysis);
     return *lm;
   }
 

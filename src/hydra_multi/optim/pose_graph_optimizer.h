@@ -19,6 +19,8 @@
 
 namespace hydra_multi {
 
+class SparseAnalyses;
+
 enum class ResidualType { kGeodesic, kChordal };
 const char* residualTypeName(ResidualType type);
 
@@ -45,6 +47,11 @@ struct PoseGraphOptimizerOptions {
   } linear_solver = LinearSolver::kSparseCholesky;
   int max_linear_iterations = 200;  ///< for conjugate gradients
   bool verbose = false;             ///< Ceres' per-iteration log on stderr
+  /// Sparse Cholesky: an analysis made ahead (SparseAnalyses, sparse_levenberg_marquardt.h) that a
+  /// problem of its pattern takes instead of analyzing its own; with keep_analysis, a problem
+  /// leaves its own there when it ends (a problem prepared on another thread: max_iterations 0).
+  std::shared_ptr<SparseAnalyses> analyses;
+  bool keep_analysis = false;
 };
 
 struct SolveSummary {

@@ -76,6 +76,10 @@ struct SparseLevenbergMarquardt::Impl {
   cholmod_sparse* H = nullptr;
   cholmod_factor* L = nullptr;
   double flops = 0.0;  // of one factorization, from the analysis
+  bool ahead = false;  // the analysis was made ahead (SparseAnalyses)
+  // Where the analysis goes when the solver ends; the terms then keep only their poses, which
+  // the pattern is (their costs end with their problem).
+  SparseAnalyses* keep_in = nullptr;
 
   ~Impl() {
     if (L != nullptr) cholmod_l_free_factor(&L, &common);
@@ -249,16 +253,22 @@ struct SparseLevenbergMarquardt::Impl {
 
 SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector<LmTerm> terms,
                                                    const std::vector<bool>& fixed,
-                                                   const ceres::Manifold& rotation)
-    : impl_(std::make_unique<Impl>()) {
-  Impl& m = *impl_;
-  m.rotation = &rotation;
-  m.terms = std::move(terms);
-  for (const LmTerm& t : m.terms) {
+                                                   const ceres::Manifold& rotation,
+                                                   SparseAnalyses* analyses, bool keep) {
+  for (const LmTerm& t : terms) {
     if (t.cost->num_residuals() > kMaxResiduals)
       throw std::invalid_argument("SparseLevenbergMarquardt: a term has more than " +
                                   std::to_string(kMaxResiduals) + " residuals");
   }
+  if (analyses != nullptr) impl_ = analyses->take(num_poses, terms, fixed);
+  const bool ahead = impl_ != nullptr;
+  if (!ahead) impl_ = std::make_unique<Impl>();
+  Impl& m = *impl_;
+  m.rotation = &rotation;
+  m.terms = std::move(terms);
+  m.ahead = ahead;
+  m.keep_in = keep ? analyses : nullptr;
+  if (ahead) return;
   keepSuiteSparseBlocks();  // the factor of the last problem, reused without page faults
   cholmod_l_start(&m.common);
   m.common.print = 0;
@@ -388,10 +398,46 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
   }
 }
 
-SparseLevenbergMarquardt::~SparseLevenbergMarquardt() = default;
+SparseLevenbergMarquardt::~SparseLevenbergMarquardt() {
+  SparseAnalyses* keep_in = impl_->keep_in;
+  if (keep_in != nullptr && impl_->L != nullptr && impl_->H != nullptr) {
+    impl_->keep_in = nullptr;
+    keep_in->keep(std::move(impl_));
+  }
+}
 
 double SparseLevenbergMarquardt::factorizationFlops() const { return impl_->flops; }
 size_t SparseLevenbergMarquardt::freePoses() const { return impl_->variables; }
+bool SparseLevenbergMarquardt::analyzedAhead() const { return impl_->ahead; }
+
+SparseAnalyses::SparseAnalyses() = default;
+SparseAnalyses::~SparseAnalyses() = default;
+
+bool SparseAnalyses::holds() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return kept_ != nullptr;
+}
+
+void SparseAnalyses::keep(std::unique_ptr<SparseLevenbergMarquardt::Impl> analysis) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  kept_ = std::move(analysis);
+}
+
+std::unique_ptr<SparseLevenbergMarquardt::Impl> SparseAnalyses::take(
+    size_t num_poses, const std::vector<LmTerm>& terms, const std::vector<bool>& fixed) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (kept_ == nullptr || kept_->variable.size() != num_poses ||
+      kept_->terms.size() != terms.size())
+    return nullptr;
+  for (size_t p = 0; p < num_poses; ++p) {
+    const bool held = p < fixed.size() && fixed[p];
+    if (held != (kept_->variable[p] == kNone)) return nullptr;
+  }
+  for (size_t k = 0; k < terms.size(); ++k) {
+    if (kept_->terms[k].i != terms[k].i || kept_->terms[k].j != terms[k].j) return nullptr;
+  }
+  return std::move(kept_);
+}
 
 LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
                                           const std::vector<double>& weights,

@@ -17,6 +17,7 @@
 
 #include <Eigen/Geometry>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -58,13 +59,18 @@ struct LmSummary {
   double time_s = 0.0;
 };
 
+class SparseAnalyses;
+
 class SparseLevenbergMarquardt {
  public:
   /// `fixed`: per pose, held constant (the gauge, and the poses a local solve leaves where they
   /// are); shorter than num_poses: the rest are free. `rotation`: the manifold of every
-  /// quaternion block, outliving this.
+  /// quaternion block, outliving this. `analyses` (may be null): where an analysis of this
+  /// pattern made ahead is taken from instead of analyzing anew, and, with `keep`, where this
+  /// one's analysis is left when it ends.
   SparseLevenbergMarquardt(size_t num_poses, std::vector<LmTerm> terms,
-                           const std::vector<bool>& fixed, const ceres::Manifold& rotation);
+                           const std::vector<bool>& fixed, const ceres::Manifold& rotation,
+                           SparseAnalyses* analyses = nullptr, bool keep = false);
   ~SparseLevenbergMarquardt();
   SparseLevenbergMarquardt(const SparseLevenbergMarquardt&) = delete;
   SparseLevenbergMarquardt& operator=(const SparseLevenbergMarquardt&) = delete;
@@ -76,10 +82,37 @@ class SparseLevenbergMarquardt {
   /// the pattern: every term, whatever its weight); 0 if the analysis failed.
   double factorizationFlops() const;
   size_t freePoses() const;
+  /// Whether the analysis was taken from `analyses`, made ahead.
+  bool analyzedAhead() const;
 
  private:
+  friend class SparseAnalyses;
   struct Impl;
   std::unique_ptr<Impl> impl_;
+};
+
+/// An analysis made ahead (on another thread, while an earlier solve runs) for a later problem:
+/// its pattern (the number of poses, the terms' poses in order, the fixed poses), its ordering
+/// and symbolic factorization. It holds the last analysis left to it; a problem with that
+/// pattern takes it (the analysis is a function of the pattern alone, so the solve is the same
+/// to the bit), any other leaves it. Thread-safe.
+class SparseAnalyses {
+ public:
+  SparseAnalyses();
+  ~SparseAnalyses();
+  SparseAnalyses(const SparseAnalyses&) = delete;
+  SparseAnalyses& operator=(const SparseAnalyses&) = delete;
+  /// Whether an analysis is held.
+  bool holds() const;
+
+ private:
+  friend class SparseLevenbergMarquardt;
+  void keep(std::unique_ptr<SparseLevenbergMarquardt::Impl> analysis);
+  std::unique_ptr<SparseLevenbergMarquardt::Impl> take(size_t num_poses,
+                                                       const std::vector<LmTerm>& terms,
+                                                       const std::vector<bool>& fixed);
+  mutable std::mutex mutex_;
+  std::unique_ptr<SparseLevenbergMarquardt::Impl> kept_;
 };
 
 }  // namespace hydra_multi

@@ -105,6 +105,9 @@ const std::map<std::string, std::map<std::string, Setter>>& setters() {
         {"two_stage", flag([](StationOptions& o, bool b) { o.backend.deformation.two_stage = b; })},
         {"final_iterations",
          count([](StationOptions& o, int n) { o.backend.deformation.final_iterations = n; }, 0)},
+        {"whole_graph_analysis_ahead", flag([](StationOptions& o, bool b) {
+           o.backend.deformation.whole_graph_analysis_ahead = b;
+         })},
         {"gnc_mu_step",
          number([](StationOptions& o, double x) { o.backend.deformation.solver.gnc.mu_step = x; },
                 1.0, true)},
