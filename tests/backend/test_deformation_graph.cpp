@@ -350,6 +350,36 @@ TEST(DeformationGraph, NewMergesThatFitTheStartAreKnown) {
   EXPECT_LT(admitted.solve.solves, all_held.solve.solves);
 }
 
+// Merges held out of GNC are expected back (it takes back those that fit): the whole graph's
+// analysis made ahead counts them in, and is taken where GNC took every one back (three true
+// merges), not where it left one out (a wrong fourth); the same poses to the bit as without.
+TEST(DeformationGraph, TheWholeGraphAnalysisMadeAheadCountsHeldOutMergesIn) {
+  for (const bool wrong : {false, true}) {
+    DeformationGraphOptions ahead;
+    const auto s = objectsToMerge(ahead, wrong);
+    const DeformationGraph graph =
+        buildDeformationGraph(s->frontend, s->inputs(), s->inter, s->merges, ahead);
+    ASSERT_EQ(graph.merge_factors.size(), s->merges.size());
+    DeformationWarmStart warm;
+    warm.poses = s->loop_closures.poses;
+    warm.verdicts = s->loop_closures.robust_inlier;
+    std::set<std::pair<NodeId, NodeId>> held_out;
+    for (const PoseGraphEdge& e : s->merges) held_out.insert({e.from, e.to});
+    DeformationGraphOptions own = ahead;
+    own.whole_graph_analysis_ahead = false;
+    const DeformationResult with = optimizeDeformationGraph(graph, ahead, held_out, &warm);
+    const DeformationResult without = optimizeDeformationGraph(graph, own, held_out, &warm);
+    size_t kept = 0;
+    for (const PoseGraphEdge& e : s->merges) kept += with.robust_inlier.at({e.from, e.to});
+    EXPECT_EQ(kept, 3u) << wrong;
+    EXPECT_EQ(with.whole_graph_analyzed_ahead, !wrong);
+    EXPECT_EQ(with.robust_inlier, without.robust_inlier) << wrong;
+    ASSERT_EQ(with.poses.size(), without.poses.size());
+    for (const auto& [id, pose] : with.poses)
+      EXPECT_TRUE(pose.matrix() == without.poses.at(id).matrix()) << wrong << ": " << id.str();
+  }
+}
+
 // A robot passes a corridor twice, and its odometry turned 3 degrees too little at the turn between
 // the passes: in its own map the way back runs onto the way out, up to 1 m at the far end, and the
 // control points it made on the way back sit beside, and are tied by its mesh edges to, those of

@@ -201,6 +201,7 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
       dg.skeleton.edges.push_back(e);
       ++dg.robust_factors;
       if (list == &inter_robot) ++dg.inter_robot_factors;
+      if (list == &merges) dg.merge_factors.insert({e.from, e.to});
     }
   }
   dg.graph.poses = dg.initial;

@@ -90,8 +90,9 @@ struct DeformationGraphOptions {
   double local_max_share = 0.5;
   /// The whole-graph solve's sparse analysis (ordering, symbolic factorization) made on a second
   /// thread while GNC solves the skeleton, for the factors GNC is expected to keep (every robust
-  /// factor it starts with, none it holds out); the solve takes it where GNC kept just those, and
-  /// analyzes its own otherwise. The same solve either way, to the bit.
+  /// factor it starts with, and the merges it holds out, which it takes back where they fit; not
+  /// the loop closures it holds out); the solve takes it where GNC kept just those, and analyzes
+  /// its own otherwise. The same solve either way, to the bit.
   bool whole_graph_analysis_ahead = true;
 };
 
@@ -105,6 +106,7 @@ struct DeformationGraph {
   std::map<NodeId, Eigen::Isometry3d> initial;  ///< global frame, before optimization
   NodeId anchor;                                ///< the root robot's first keyframe
   size_t robust_factors = 0, inter_robot_factors = 0;
+  std::set<std::pair<NodeId, NodeId>> merge_factors;  ///< the robust factors that are merges
 };
 
 /// Assembles the deformation graph of the aligned robots. `frontend` holds every robot's nodes in

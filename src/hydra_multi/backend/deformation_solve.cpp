@@ -98,8 +98,9 @@ RobustPgoOptions wholeGraphSolver(const DeformationGraphOptions& options) {
 }
 
 // The sparse analysis of the whole-graph solve GNC's result is expected to lead to (the robust
-// factors of `robust` it starts with all kept, those it holds out all rejected), made into
-// `ahead` (PoseGraphOptimizerOptions::analyses). Its nodes are the whole graph's, as the solve's.
+// factors of `robust` it starts with all kept, and the merges it holds out, which it takes back
+// where they fit; the loop closures it holds out rejected), made into `ahead`
+// (PoseGraphOptimizerOptions::analyses). Its nodes are the whole graph's, as the solve's.
 void analyzeWholeGraphAhead(const DeformationGraph& graph, const PoseGraph& robust,
                             const std::vector<bool>& held_out,
                             const DeformationGraphOptions& options,
@@ -107,7 +108,8 @@ void analyzeWholeGraphAhead(const DeformationGraph& graph, const PoseGraph& robu
   std::map<std::pair<NodeId, NodeId>, bool> expected;
   for (size_t k = 0; k < robust.edges.size(); ++k) {
     const PoseGraphEdge& e = robust.edges[k];
-    if (e.kind == PoseGraphEdge::Kind::kLoopClosure) expected[{e.from, e.to}] = !held_out[k];
+    if (e.kind == PoseGraphEdge::Kind::kLoopClosure)
+      expected[{e.from, e.to}] = !held_out[k] || graph.merge_factors.count({e.from, e.to}) != 0;
   }
   std::map<NodeId, Eigen::Isometry3d> nodes = graph.initial;
   for (const auto& [id, pose] : robust.poses) nodes.emplace(id, pose);
