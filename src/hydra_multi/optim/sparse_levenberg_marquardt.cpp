@@ -76,7 +76,6 @@ struct SparseLevenbergMarquardt::Impl {
   cholmod_sparse* H = nullptr;
   cholmod_factor* L = nullptr;
   double flops = 0.0;  // of one factorization, from the analysis
-  bool ahead = false;  // the analysis was made ahead (SparseAnalyses)
   // Where the analysis goes when the solver ends; the terms then keep only their poses, which
   // the pattern is (their costs end with their problem).
   SparseAnalyses* keep_in = nullptr;
@@ -266,7 +265,6 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
   Impl& m = *impl_;
   m.rotation = &rotation;
   m.terms = std::move(terms);
-  m.ahead = ahead;
   m.keep_in = keep ? analyses : nullptr;
   if (ahead) return;
   keepSuiteSparseBlocks();  // the factor of the last problem, reused without page faults
@@ -408,7 +406,6 @@ SparseLevenbergMarquardt::~SparseLevenbergMarquardt() {
 
 double SparseLevenbergMarquardt::factorizationFlops() const { return impl_->flops; }
 size_t SparseLevenbergMarquardt::freePoses() const { return impl_->variables; }
-bool SparseLevenbergMarquardt::analyzedAhead() const { return impl_->ahead; }
 
 SparseAnalyses::SparseAnalyses() = default;
 SparseAnalyses::~SparseAnalyses() = default;

@@ -82,8 +82,6 @@ class SparseLevenbergMarquardt {
   /// the pattern: every term, whatever its weight); 0 if the analysis failed.
   double factorizationFlops() const;
   size_t freePoses() const;
-  /// Whether the analysis was taken from `analyses`, made ahead.
-  bool analyzedAhead() const;
 
  private:
   friend class SparseAnalyses;
