@@ -222,6 +222,7 @@ Backend::Proposals Backend::proposeOnLoopClosureSolve(
     const SceneGraph& frontend, const Team& team, const std::vector<PoseGraphEdge>& loop_closures,
     const std::set<std::pair<NodeId, NodeId>>& held_out, BackendRoundReport& report) const {
   Proposals proposals;
+  const auto start = std::chrono::steady_clock::now();
   const DeformationGraph graph =
       buildDeformationGraph(frontend, team.inputs, loop_closures, {}, options_.deformation);
   DeformationGraphOptions skeleton = options_.deformation;
@@ -241,12 +242,16 @@ Backend::Proposals Backend::proposeOnLoopClosureSolve(
   proposals.held_out = solved.solve.held_out_poses;
   proposals.solved.poses = solved.poses;
   proposals.solved.verdicts = solved.robust_inlier;
+  const auto solve_end = std::chrono::steady_clock::now();
+  report.loop_closure_solve_s = std::chrono::duration<double>(solve_end - start).count();
   const SolvedNodes nodes =
       solvedNodes(frontend, team.inputs, graph, solved, options_.deformation.link_max_dt_s);
   proposals.candidates = refineObjectMerges(
       proposeMerges(frontend, team.T_global_robot, options_.reconciliation, &nodes.positions),
       frontend, team.T_global_robot, team.meshes, options_.reconciliation, &nodes.motion,
       incremental() ? &icp_cache_ : nullptr);
+  report.candidates_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - solve_end).count();
   return proposals;
 }
 

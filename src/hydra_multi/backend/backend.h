@@ -97,6 +97,9 @@ struct BackendRoundReport {
   /// rooms.
   double alignment_s = 0.0, build_s = 0.0, gnc_s = 0.0, whole_graph_s = 0.0, graph_s = 0.0,
          rooms_s = 0.0;
+  /// Of build_s: the loop closures' solve (its deformation graph built and solved without
+  /// merges), and the merge candidates on it (proposals and their ICP).
+  double loop_closure_solve_s = 0.0, candidates_s = 0.0;
   /// Incremental rounds: robust factors (loop closures, merges) taken as decided from the last
   /// round, and those of them the solve contradicted and GNC decided again.
   size_t verdicts_known = 0, verdicts_redecided = 0;
