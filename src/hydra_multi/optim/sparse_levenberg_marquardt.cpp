@@ -375,8 +375,8 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
   }
   // The symbolic factorization of A in its natural order, which the ordering already postordered;
   // small supernodes merged more than by default.
-  m.common.nrelax[0] = 16;
-  m.common.nrelax[1] = 64;
+  m.common.nrelax[0] = 8;
+  m.common.nrelax[1] = 32;
   m.common.nrelax[2] = 256;
   m.common.zrelax[0] = 0.8;
   m.common.zrelax[1] = 0.2;
