@@ -115,6 +115,58 @@ TEST(PoseGraphOptimizer, SparseCholeskyAndCeresReachTheSameOptimum) {
   }
 }
 
+// Poses joined to at most two others (chains, leaves, a chain cut by a held pose) are eliminated
+// before CHOLMOD factorizes the rest, and their steps substituted back: the optimum is Ceres'.
+TEST(PoseGraphOptimizer, ChainsAndLeavesEliminatedFirstReachTheSameOptimum) {
+  std::mt19937 rng(86);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  const std::map<NodeId, Eigen::Isometry3d> truth = testing::randomTrajectory(rng, 96);
+  const auto x = [](int k) { return NodeId('x', static_cast<uint64_t>(k)); };
+  PoseGraph g;
+  const auto addEdge = [&](int a, int b) {
+    PoseGraphEdge e;
+    e.from = x(a);
+    e.to = x(b);
+    Vector6d xi;
+    for (int k = 0; k < 6; ++k) xi[k] = 0.02 * gauss(rng);
+    e.T_from_to = truth.at(e.from).inverse() * truth.at(e.to) * expSE3(xi);
+    e.information = Matrix6d::Identity() * 2500.0;
+    g.edges.push_back(e);
+  };
+  for (int i = 0; i + 1 < 80; ++i) addEdge(i, i + 1);  // one chain
+  for (const auto& [a, b] : {std::pair{0, 30}, {10, 50}, {30, 79}, {20, 60}}) addEdge(a, b);
+  for (int leaf = 80; leaf < 96; ++leaf) addEdge((leaf * 7) % 80, leaf);  // leaves
+  addEdge(90, 91);  // two leaves made a chain between two poses
+  classifyEdges(g);
+  const NodeId anchor = x(0);
+  const auto start = testing::perturbPoses(truth, anchor, 0.05, rng);
+  for (const bool hold : {false, true}) {
+    for (const ResidualType type : {ResidualType::kGeodesic, ResidualType::kChordal}) {
+      PoseGraphOptimizerOptions options;
+      options.residual = type;
+      options.function_tolerance = 1e-14;
+      options.max_iterations = 200;
+      PoseGraphProblem sparse(g, start, anchor, options);
+      options.linear_solver = PoseGraphOptimizerOptions::LinearSolver::kConjugateGradients;
+      options.max_linear_iterations = 1000;
+      PoseGraphProblem ceres(g, start, anchor, options);
+      if (hold) {  // a pose in the chain's middle, and a leaf
+        sparse.holdConstant({x(40), x(85)});
+        ceres.holdConstant({x(40), x(85)});
+      }
+      const SolveSummary by_cholmod = sparse.solve();
+      const SolveSummary by_ceres = ceres.solve();
+      ASSERT_TRUE(by_cholmod.usable) << by_cholmod.message;
+      ASSERT_TRUE(by_ceres.usable) << by_ceres.message;
+      EXPECT_LT(by_cholmod.final_cost, 0.01 * by_cholmod.initial_cost);
+      EXPECT_NEAR(by_cholmod.final_cost, by_ceres.final_cost, 1e-6 * by_ceres.final_cost)
+          << residualTypeName(type) << (hold ? ", held" : "");
+      for (const auto& [id, T] : sparse.poses())
+        EXPECT_LT((T.matrix() - ceres.poses().at(id).matrix()).norm(), 1e-5) << id.str();
+    }
+  }
+}
+
 // The sparse solver analyzes the graph once and keeps it: after solves with other weights (zero
 // among them), a solve gives what a new problem gives from the same poses.
 TEST(PoseGraphOptimizer, ASolveAfterOthersWithOtherWeightsIsAsAFirstSolve) {

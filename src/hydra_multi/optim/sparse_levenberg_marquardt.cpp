@@ -2,6 +2,7 @@
 
 #include <ceres/ceres.h>
 #include <cholmod.h>
+#include <Eigen/Cholesky>
 
 #include <algorithm>
 #include <array>
@@ -54,8 +55,27 @@ struct SparseLevenbergMarquardt::Impl {
   // block of H (block row <= block column), per entry (column-major, 6 c + r; a diagonal block's
   // entries r <= c only), its index in A's values.
   std::vector<long> slot;            // 36 per block
-  std::vector<long> permuted;        // scalar index of H -> that of A
+  std::vector<long> permuted;        // scalar index of H -> that of A (kNone: eliminated)
   std::vector<long> diagonal_block;  // per variable
+  // Variables eliminated before CHOLMOD factorizes the rest (A): one by one, each joined to at
+  // most two others then. Per elimination: the variable, those neighbours (kNone where fewer),
+  // its blocks to them, their diagonal blocks and the block between them (the fill). The blocks
+  // of an eliminated variable are stored after A's values (`slot` as for A's, 36 per block,
+  // column-major); per step the eliminations update them and A's blocks in `kept_touched`, and
+  // both are restored after the step.
+  struct Elimination {
+    long v = kNone;
+    std::array<long, 2> u{kNone, kNone}, vu{kNone, kNone}, uu{kNone, kNone};
+    long u01 = kNone;
+  };
+  std::vector<Elimination> eliminations;
+  std::vector<std::pair<long, long>> block_pairs;  // per block, its (row, column) variables
+  long tail_begin = 0, tail_end = 0;               // the eliminated blocks in H's values
+  std::vector<long> kept_touched;
+  size_t reduced = 0;  // variables in A
+  std::vector<double> saved_tail, saved_kept;
+  std::vector<Block> inverse;  // per elimination, its damped diagonal block's inverse
+  std::vector<Vector6> eliminated_rhs;
   // Per term: its blocks (i, i), (j, j) and (min, max) of H; kNone where a pose is fixed.
   struct TermBlocks {
     long ii = kNone, jj = kNone, ij = kNone;
@@ -98,6 +118,75 @@ struct SparseLevenbergMarquardt::Impl {
   }
   // Where H's diagonal entry (c, c) of variable v is in A's values.
   long diagonalSlot(size_t v, int c) const { return slot[36 * diagonal_block[v] + 7 * c]; }
+
+  // Block `block` of H as stored: H_rc for its pair (r, c), a diagonal block made symmetric.
+  Block read(long block, bool diagonal) const {
+    const double* x = static_cast<const double*>(H->x);
+    const long* at = &slot[36 * block];
+    Block m;
+    for (int c = 0; c < 6; ++c) {
+      for (int r = 0; r < 6; ++r) {
+        if (diagonal && r > c) continue;
+        m(r, c) = x[at[6 * c + r]];
+        if (diagonal) m(c, r) = m(r, c);
+      }
+    }
+    return m;
+  }
+  // H_uv of elimination e's neighbour k and its variable.
+  Block toNeighbour(const Elimination& e, int k) const {
+    const Block stored = read(e.vu[k], false);
+    return e.u[k] < e.v ? stored : Block(stored.transpose());
+  }
+
+  // The eliminations on the damped H and the right-hand side `rhs` (-g, per variable), in order:
+  // H_uw -= H_uv D_v^-1 H_vw and rhs_u -= H_uv D_v^-1 rhs_v for the neighbours u, w of v. False
+  // where a D_v is not positive definite.
+  bool eliminate(Eigen::VectorXd& rhs) {
+    double* x = static_cast<double*>(H->x);
+    saved_tail.assign(x + tail_begin, x + tail_end);
+    saved_kept.resize(kept_touched.size());
+    for (size_t k = 0; k < kept_touched.size(); ++k) saved_kept[k] = x[kept_touched[k]];
+    inverse.resize(eliminations.size());
+    eliminated_rhs.resize(eliminations.size());
+    for (size_t k = 0; k < eliminations.size(); ++k) {
+      const Elimination& e = eliminations[k];
+      const Eigen::LLT<Block> llt(read(diagonal_block[e.v], true));
+      if (llt.info() != Eigen::Success) return false;
+      inverse[k] = llt.solve(Block::Identity());
+      const Vector6 r = rhs.segment<6>(6 * e.v);
+      eliminated_rhs[k] = r;
+      std::array<Block, 2> X;
+      for (int n = 0; n < 2 && e.u[n] != kNone; ++n) {
+        const Block B = toNeighbour(e, n);
+        X[n] = B * inverse[k];
+        add(e.uu[n], -(X[n] * B.transpose()), true);
+        rhs.segment<6>(6 * e.u[n]) -= X[n] * r;
+      }
+      if (e.u01 != kNone) {
+        const Block S = X[0] * toNeighbour(e, 1).transpose();  // the update of H_{u0 u1}
+        add(e.u01, e.u[0] < e.u[1] ? Block(-S) : Block(-S.transpose()), false);
+      }
+    }
+    return true;
+  }
+  // The eliminated variables' steps from the others', last elimination first:
+  // delta_v = D_v^-1 (rhs_v - sum_u H_vu delta_u); then H as before the eliminations.
+  void substituteBack(Eigen::VectorXd& step) {
+    for (size_t k = eliminations.size(); k-- > 0;) {
+      const Elimination& e = eliminations[k];
+      Vector6 r = eliminated_rhs[k];
+      for (int n = 0; n < 2 && e.u[n] != kNone; ++n)
+        r -= toNeighbour(e, n).transpose() * step.segment<6>(6 * e.u[n]);
+      step.segment<6>(6 * e.v) = inverse[k] * r;
+    }
+    restore();
+  }
+  void restore() {
+    double* x = static_cast<double*>(H->x);
+    std::copy(saved_tail.begin(), saved_tail.end(), x + tail_begin);
+    for (size_t k = 0; k < kept_touched.size(); ++k) x[kept_touched[k]] = saved_kept[k];
+  }
 
   // The residual of term k at `poses` and, if `J_i`/`J_j` are given, its tangent Jacobians.
   bool evaluate(size_t k, const std::vector<PoseParameters>& poses, Residual& r, JacobianRows* J_i,
@@ -275,8 +364,58 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
   for (size_t p = 0; p < num_poses; ++p) {
     if (p >= fixed.size() || !fixed[p]) m.variable[p] = static_cast<long>(m.variables++);
   }
-  // The blocks of H: per variable column, its rows (itself, and the variables a term joins it to
-  // from above).
+  // The variables eliminated before CHOLMOD: one by one, any joined to at most two others (a
+  // pose of a chain, a leaf), their neighbours then joined to each other (the fill).
+  std::vector<std::vector<long>> neighbours(m.variables);
+  for (const LmTerm& t : m.terms) {
+    const long a = m.variable[t.i], b = m.variable[t.j];
+    if (a == kNone || b == kNone || a == b) continue;
+    neighbours[a].push_back(b);
+    neighbours[b].push_back(a);
+  }
+  for (auto& list : neighbours) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+  const auto unlink = [&](long from, long v) {
+    auto& list = neighbours[from];
+    list.erase(std::lower_bound(list.begin(), list.end(), v));
+  };
+  const auto link = [&](long a, long b) {
+    auto& list = neighbours[a];
+    const auto at = std::lower_bound(list.begin(), list.end(), b);
+    if (at == list.end() || *at != b) list.insert(at, b);
+  };
+  std::vector<char> eliminated(m.variables, 0);
+  std::vector<std::pair<long, long>> fill;
+  std::vector<long> candidates;
+  for (size_t v = m.variables; v-- > 0;) {
+    if (neighbours[v].size() <= 2) candidates.push_back(static_cast<long>(v));
+  }
+  size_t kept = m.variables;
+  while (!candidates.empty() && kept > 1) {
+    const long v = candidates.back();
+    candidates.pop_back();
+    if (eliminated[v] || neighbours[v].size() > 2) continue;
+    Impl::Elimination e;
+    e.v = v;
+    for (size_t k = 0; k < neighbours[v].size(); ++k) e.u[k] = neighbours[v][k];
+    for (const long u : neighbours[v]) unlink(u, v);
+    if (e.u[1] != kNone) {
+      link(e.u[0], e.u[1]);
+      link(e.u[1], e.u[0]);
+      fill.emplace_back(e.u[0], e.u[1]);
+    }
+    neighbours[v].clear();
+    eliminated[v] = 1;
+    --kept;
+    m.eliminations.push_back(e);
+    for (const long u : e.u) {
+      if (u != kNone && neighbours[u].size() <= 2) candidates.push_back(u);
+    }
+  }
+  // The blocks of H: per variable column, its rows (itself, the variables a term joins it to
+  // from above, and the fill).
   std::vector<std::vector<long>> rows(m.variables);
   for (size_t v = 0; v < m.variables; ++v) rows[v].push_back(static_cast<long>(v));
   for (const LmTerm& t : m.terms) {
@@ -284,15 +423,14 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
     if (a == kNone || b == kNone || a == b) continue;
     rows[std::max(a, b)].push_back(std::min(a, b));
   }
-  size_t nonzeros = 0;
+  for (const auto& [a, b] : fill) rows[std::max(a, b)].push_back(std::min(a, b));
   for (auto& list : rows) {
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
-    nonzeros += 36 * (list.size() - 1) + 21;
   }
   // Block ids, column by column; per block its (row, column) variables.
   std::vector<std::vector<long>> block_of(m.variables);  // per column, per row in `rows`
-  std::vector<std::pair<long, long>> block_at;
+  std::vector<std::pair<long, long>>& block_at = m.block_pairs;
   for (size_t c = 0; c < m.variables; ++c) {
     for (const long r : rows[c]) {
       block_of[c].push_back(static_cast<long>(block_at.size()));
@@ -302,6 +440,7 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
   m.diagonal_block.resize(m.variables);
   for (size_t c = 0; c < m.variables; ++c) m.diagonal_block[c] = block_of[c].back();
   const auto blockOf = [&](long r, long c) {
+    if (r > c) std::swap(r, c);
     const auto& list = rows[c];
     const size_t k = std::lower_bound(list.begin(), list.end(), r) - list.begin();
     return block_of[c][k];
@@ -312,14 +451,44 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
     Impl::TermBlocks& tb = m.term_blocks[k];
     if (a != kNone) tb.ii = m.diagonal_block[a];
     if (b != kNone) tb.jj = m.diagonal_block[b];
-    if (a != kNone && b != kNone && a != b) tb.ij = blockOf(std::min(a, b), std::max(a, b));
+    if (a != kNone && b != kNone && a != b) tb.ij = blockOf(a, b);
   }
-  const size_t n = 6 * m.variables;
+  double elimination_flops = 0.0;  // CHOLMOD's count for their columns: sum of squared counts
+  for (Impl::Elimination& e : m.eliminations) {
+    const int degree = (e.u[0] != kNone) + (e.u[1] != kNone);
+    for (int c = 0; c < 6; ++c) elimination_flops += std::pow(6.0 - c + 6.0 * degree, 2);
+    for (int n = 0; n < degree; ++n) {
+      e.vu[n] = blockOf(e.v, e.u[n]);
+      e.uu[n] = m.diagonal_block[e.u[n]];
+    }
+    if (degree == 2) e.u01 = blockOf(e.u[0], e.u[1]);
+  }
+  // A: the variables not eliminated, with their blocks.
+  std::vector<long> reduced(m.variables, kNone);
+  for (size_t v = 0; v < m.variables; ++v) {
+    if (!eliminated[v]) reduced[v] = static_cast<long>(m.reduced++);
+  }
+  const auto inA = [&](size_t k) {
+    return !eliminated[block_at[k].first] && !eliminated[block_at[k].second];
+  };
+  std::vector<std::vector<long>> reduced_rows(m.reduced);
+  size_t nonzeros = 0, tail_blocks = 0;
+  for (size_t k = 0; k < block_at.size(); ++k) {
+    if (!inA(k)) {
+      ++tail_blocks;
+      continue;
+    }
+    const long r = reduced[block_at[k].first], c = reduced[block_at[k].second];
+    reduced_rows[c].push_back(r);
+    nonzeros += r == c ? 21 : 36;
+  }
+  const size_t n = 6 * m.reduced;
   // A's block columns in the triangle `stype` (-1 lower, +1 upper), variables placed at
   // `position`: per column, its blocks (row, H's block) sorted by row.
   const auto placeBlocks = [&](const std::vector<long>& position, int stype) {
-    std::vector<std::vector<std::pair<long, long>>> columns(m.variables);
+    std::vector<std::vector<std::pair<long, long>>> columns(m.reduced);
     for (size_t k = 0; k < block_at.size(); ++k) {
+      if (!inA(k)) continue;
       const long pr = position[block_at[k].first], pc = position[block_at[k].second];
       const long low = std::min(pr, pc), high = std::max(pr, pc);
       if (stype < 0) {
@@ -332,19 +501,20 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
     return columns;
   };
   // A as a CHOLMOD matrix (values zero; only the pattern for `values` false) and, with `values`,
-  // `slot`. An entry (i, j) of A's block at (R, C) is H's entry (i, j) of its block where R is
-  // that block's row variable and R != C, else (j, i); a diagonal block keeps one triangle.
+  // `slot`, the eliminated blocks' values after A's. An entry (i, j) of A's block at (R, C) is
+  // H's entry (i, j) of its block where R is that block's row variable and R != C, else (j, i); a
+  // diagonal block keeps one triangle.
   const auto store = [&](const std::vector<long>& position, int stype, bool values) {
     const auto columns = placeBlocks(position, stype);
-    cholmod_sparse* A =
-        cholmod_l_allocate_sparse(n, n, nonzeros, /*sorted=*/1, /*packed=*/1, stype,
-                                  values ? CHOLMOD_REAL : CHOLMOD_PATTERN, &m.common);
+    cholmod_sparse* A = cholmod_l_allocate_sparse(
+        n, n, nonzeros + (values ? 36 * tail_blocks : 0), /*sorted=*/1, /*packed=*/1, stype,
+        values ? CHOLMOD_REAL : CHOLMOD_PATTERN, &m.common);
     if (A == nullptr) return A;
     auto* column_start = static_cast<SuiteSparse_long*>(A->p);
     auto* row_index = static_cast<SuiteSparse_long*>(A->i);
     if (values) m.slot.assign(36 * block_at.size(), kNone);
     long at = 0;
-    for (size_t C = 0; C < m.variables; ++C) {
+    for (size_t C = 0; C < m.reduced; ++C) {
       for (int j = 0; j < 6; ++j) {
         column_start[6 * C + j] = at;
         for (const auto& [R, k] : columns[C]) {
@@ -361,17 +531,34 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
       }
     }
     column_start[n] = at;
-    if (values) std::fill_n(static_cast<double*>(A->x), at, 0.0);
+    if (values) {
+      m.tail_begin = at;
+      for (size_t k = 0; k < block_at.size(); ++k) {
+        if (inA(k)) continue;
+        for (int i = 0; i < 36; ++i) m.slot[36 * k + i] = at++;
+      }
+      m.tail_end = at;
+      std::fill_n(static_cast<double*>(A->x), at, 0.0);
+    }
     return A;
   };
-  // Fill-reducing ordering of the variables, once.
-  const std::optional<FillReducingOrdering> ordering = orderForCholesky(rows, kBothOrderingsFrom);
-  if (!ordering) return;                    // solve() reports it
-  std::vector<long> position(m.variables);  // variable -> its place in A
-  for (size_t k = 0; k < m.variables; ++k) position[ordering->column[k]] = static_cast<long>(k);
-  m.permuted.resize(n);
+  // Fill-reducing ordering of A's variables, once.
+  for (auto& list : reduced_rows) std::sort(list.begin(), list.end());
+  const std::optional<FillReducingOrdering> ordering =
+      orderForCholesky(reduced_rows, kBothOrderingsFrom);
+  if (!ordering) return;                           // solve() reports it
+  std::vector<long> position(m.variables, kNone);  // variable -> its place in A
   for (size_t v = 0; v < m.variables; ++v) {
-    for (int c = 0; c < 6; ++c) m.permuted[6 * v + c] = 6 * position[v] + c;
+    if (reduced[v] != kNone) position[v] = reduced[v];
+  }
+  std::vector<long> place(m.reduced);
+  for (size_t k = 0; k < m.reduced; ++k) place[ordering->column[k]] = static_cast<long>(k);
+  for (long& p : position) {
+    if (p != kNone) p = place[p];
+  }
+  m.permuted.assign(6 * m.variables, kNone);
+  for (size_t v = 0; v < m.variables; ++v) {
+    for (int c = 0; c < 6 && position[v] != kNone; ++c) m.permuted[6 * v + c] = 6 * position[v] + c;
   }
   // The symbolic factorization of A in its natural order, which the ordering already postordered;
   // small supernodes merged more than by default.
@@ -389,11 +576,27 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
   m.common.nmethods = 1;
   m.common.method[0].ordering = CHOLMOD_NATURAL;
   m.L = cholmod_l_analyze(m.H, &m.common);
-  if (m.L != nullptr) m.flops = m.common.fl;
+  if (m.L != nullptr) m.flops = m.common.fl + elimination_flops;
   if (m.L != nullptr && !m.L->is_super) {
     cholmod_l_free_sparse(&m.H, &m.common);
     m.H = store(position, 1, true);
   }
+  if (m.H == nullptr) return;
+  // A's values the eliminations update: the neighbours' diagonal blocks and the fill.
+  for (const Impl::Elimination& e : m.eliminations) {
+    for (int k = 0; k < 2 && e.u[k] != kNone; ++k) {
+      if (eliminated[e.u[k]]) continue;
+      for (int c = 0; c < 6; ++c) {
+        for (int r = 0; r <= c; ++r) m.kept_touched.push_back(m.slot[36 * e.uu[k] + 6 * c + r]);
+      }
+    }
+    if (e.u01 != kNone && !eliminated[e.u[0]] && !eliminated[e.u[1]]) {
+      for (int i = 0; i < 36; ++i) m.kept_touched.push_back(m.slot[36 * e.u01 + i]);
+    }
+  }
+  std::sort(m.kept_touched.begin(), m.kept_touched.end());
+  m.kept_touched.erase(std::unique(m.kept_touched.begin(), m.kept_touched.end()),
+                       m.kept_touched.end());
 }
 
 SparseLevenbergMarquardt::~SparseLevenbergMarquardt() {
@@ -464,7 +667,8 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
   bool linearized = true;
   std::vector<double> diagonal(n);
   Eigen::VectorXd step(static_cast<Eigen::Index>(n));
-  cholmod_dense* b = cholmod_l_zeros(n, 1, CHOLMOD_REAL, &m.common);
+  cholmod_dense* b = cholmod_l_zeros(6 * m.reduced, 1, CHOLMOD_REAL, &m.common);
+  Eigen::VectorXd rhs_of(static_cast<Eigen::Index>(n));  // per variable
   std::vector<PoseParameters> candidate = poses;
   std::string why = "no convergence";
   while (summary.iterations < options.max_iterations) {
@@ -490,22 +694,35 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
         d += diagonal[6 * v + c] / radius;
       }
     }
+    rhs_of = -g;
+    const bool eliminated = m.eliminate(rhs_of);
     auto* rhs = static_cast<double*>(b->x);  // in A's order
-    for (size_t k = 0; k < n; ++k) rhs[m.permuted[k]] = -g[static_cast<Eigen::Index>(k)];
-    const int factorized = cholmod_l_factorize(m.H, m.L, &m.common);
-    const bool positive = factorized && m.common.status == CHOLMOD_OK;
+    for (size_t k = 0; k < n; ++k) {
+      if (m.permuted[k] != kNone) rhs[m.permuted[k]] = rhs_of[static_cast<Eigen::Index>(k)];
+    }
+    const bool positive =
+        eliminated && cholmod_l_factorize(m.H, m.L, &m.common) && m.common.status == CHOLMOD_OK;
     cholmod_dense* delta = positive ? cholmod_l_solve(CHOLMOD_A, m.L, b, &m.common) : nullptr;
+    const bool solved = delta != nullptr;
+    if (solved) {
+      const auto* solution = static_cast<const double*>(delta->x);  // in A's order
+      for (size_t k = 0; k < n; ++k) {
+        if (m.permuted[k] != kNone) step[static_cast<Eigen::Index>(k)] = solution[m.permuted[k]];
+      }
+      cholmod_l_free_dense(&delta, &m.common);
+      m.substituteBack(step);
+    } else {
+      m.restore();
+    }
     for (size_t v = 0; v < m.variables; ++v) {  // back to H
       for (int c = 0; c < 6; ++c) x[m.diagonalSlot(v, c)] -= diagonal[6 * v + c] / radius;
     }
     bool taken = false;
-    if (delta == nullptr && ++invalid_steps >= kMaxConsecutiveInvalidSteps) {
+    if (!solved && ++invalid_steps >= kMaxConsecutiveInvalidSteps) {
       why = "the damped normal equations could not be factorized";
       break;
     }
-    if (delta != nullptr) {
-      const auto* solution = static_cast<const double*>(delta->x);  // in A's order
-      for (size_t k = 0; k < n; ++k) step[static_cast<Eigen::Index>(k)] = solution[m.permuted[k]];
+    if (solved) {
       double model_decrease = -step.dot(g);
       for (size_t k = 0; k < n; ++k) model_decrease += diagonal[k] / radius * step[k] * step[k];
       model_decrease *= 0.5;
@@ -521,7 +738,6 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
         candidate[p].t += step.segment<3>(6 * v + 3);
       }
       const double step_norm = step.norm();
-      cholmod_l_free_dense(&delta, &m.common);
       if (step_norm <=
           options.parameter_tolerance * (std::sqrt(x_norm_sq) + options.parameter_tolerance)) {
         why = "parameter tolerance reached";

@@ -13,7 +13,9 @@
 // every later factorization, in every solve, is numeric only. The poses are ordered as blocks
 // (fill_reducing_ordering.h: AMD, or METIS on large graphs where it takes fewer flops) and H is
 // assembled in that order, so CHOLMOD factors it as stored, without permuting it per
-// factorization.
+// factorization. Before it does, each step eliminates the poses joined to at most two others
+// (chains and leaves, one by one, each joining its neighbours), H_uw -= H_uv D_v^-1 H_vw, and
+// substitutes their steps back after: CHOLMOD factors the rest, with far fewer supernodes.
 
 #include <Eigen/Geometry>
 #include <memory>
@@ -79,7 +81,8 @@ class SparseLevenbergMarquardt {
   LmSummary solve(std::vector<PoseParameters>& poses, const std::vector<double>& weights,
                   const LmOptions& options);
   /// Floating-point operations of one factorization, as CHOLMOD's analysis counts them (fixed by
-  /// the pattern: every term, whatever its weight); 0 if the analysis failed.
+  /// the pattern: every term, whatever its weight), the eliminated poses' columns counted alike;
+  /// 0 if the analysis failed.
   double factorizationFlops() const;
   size_t freePoses() const;
 
