@@ -74,8 +74,9 @@ struct SparseLevenbergMarquardt::Impl {
   std::vector<long> kept_touched;
   size_t reduced = 0;  // variables in A
   std::vector<double> saved_tail, saved_kept;
-  std::vector<Block> inverse;  // per elimination, its damped diagonal block's inverse
-  std::vector<Vector6> eliminated_rhs;
+  // Per elimination, for the substitution: D_v^-1 rhs_v and H_uv D_v^-1 per neighbour u.
+  std::vector<Vector6> solved_rhs;
+  std::vector<std::array<Block, 2>> neighbour_products;
   // Per term: its blocks (i, i), (j, j) and (min, max) of H; kNone where a pose is fixed.
   struct TermBlocks {
     long ii = kNone, jj = kNone, ij = kNone;
@@ -147,38 +148,39 @@ struct SparseLevenbergMarquardt::Impl {
     saved_tail.assign(x + tail_begin, x + tail_end);
     saved_kept.resize(kept_touched.size());
     for (size_t k = 0; k < kept_touched.size(); ++k) saved_kept[k] = x[kept_touched[k]];
-    inverse.resize(eliminations.size());
-    eliminated_rhs.resize(eliminations.size());
+    solved_rhs.resize(eliminations.size());
+    neighbour_products.resize(eliminations.size());
     for (size_t k = 0; k < eliminations.size(); ++k) {
       const Elimination& e = eliminations[k];
       const Eigen::LLT<Block> llt(read(diagonal_block[e.v], true));
       if (llt.info() != Eigen::Success) return false;
-      inverse[k] = llt.solve(Block::Identity());
+      const Block inverse = llt.solve(Block::Identity());
       const Vector6 r = rhs.segment<6>(6 * e.v);
-      eliminated_rhs[k] = r;
-      std::array<Block, 2> X;
+      solved_rhs[k] = inverse * r;
+      std::array<Block, 2> B;
+      std::array<Block, 2>& X = neighbour_products[k];
       for (int n = 0; n < 2 && e.u[n] != kNone; ++n) {
-        const Block B = toNeighbour(e, n);
-        X[n] = B * inverse[k];
-        add(e.uu[n], -(X[n] * B.transpose()), true);
+        B[n] = toNeighbour(e, n);
+        X[n] = B[n] * inverse;
+        add(e.uu[n], -(X[n] * B[n].transpose()), true);
         rhs.segment<6>(6 * e.u[n]) -= X[n] * r;
       }
       if (e.u01 != kNone) {
-        const Block S = X[0] * toNeighbour(e, 1).transpose();  // the update of H_{u0 u1}
+        const Block S = X[0] * B[1].transpose();  // the update of H_{u0 u1}
         add(e.u01, e.u[0] < e.u[1] ? Block(-S) : Block(-S.transpose()), false);
       }
     }
     return true;
   }
   // The eliminated variables' steps from the others', last elimination first:
-  // delta_v = D_v^-1 (rhs_v - sum_u H_vu delta_u); then H as before the eliminations.
+  // delta_v = D_v^-1 rhs_v - sum_u (H_uv D_v^-1)^T delta_u; then H as before the eliminations.
   void substituteBack(Eigen::VectorXd& step) {
     for (size_t k = eliminations.size(); k-- > 0;) {
       const Elimination& e = eliminations[k];
-      Vector6 r = eliminated_rhs[k];
+      Vector6 delta = solved_rhs[k];
       for (int n = 0; n < 2 && e.u[n] != kNone; ++n)
-        r -= toNeighbour(e, n).transpose() * step.segment<6>(6 * e.u[n]);
-      step.segment<6>(6 * e.v) = inverse[k] * r;
+        delta -= neighbour_products[k][n].transpose() * step.segment<6>(6 * e.u[n]);
+      step.segment<6>(6 * e.v) = delta;
     }
     restore();
   }
