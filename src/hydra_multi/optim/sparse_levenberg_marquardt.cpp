@@ -42,6 +42,54 @@ constexpr int kMaxConsecutiveInvalidSteps = 5;
 constexpr size_t kBothOrderingsFrom = 5000;  // variables
 constexpr size_t kThreadsFrom = 4096;        // terms: fewer are linearized on one thread
 
+// The order in which to eliminate variables of a graph (`neighbours`: per variable, the others a
+// term joins it to): one by one, any joined to at most two others (a pose of a chain, a leaf), its
+// neighbours then joined to each other; at least one variable is left. Per elimination, the
+// variable and its neighbours then (kNone where fewer).
+std::vector<std::pair<long, std::array<long, 2>>> chainsAndLeaves(
+    std::vector<std::vector<long>> neighbours) {
+  for (auto& list : neighbours) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+  const auto unlink = [&](long from, long v) {
+    auto& list = neighbours[from];
+    list.erase(std::lower_bound(list.begin(), list.end(), v));
+  };
+  const auto link = [&](long a, long b) {
+    auto& list = neighbours[a];
+    const auto at = std::lower_bound(list.begin(), list.end(), b);
+    if (at == list.end() || *at != b) list.insert(at, b);
+  };
+  std::vector<std::pair<long, std::array<long, 2>>> order;
+  std::vector<char> eliminated(neighbours.size(), 0);
+  std::vector<long> candidates;
+  for (size_t v = neighbours.size(); v-- > 0;) {
+    if (neighbours[v].size() <= 2) candidates.push_back(static_cast<long>(v));
+  }
+  size_t kept = neighbours.size();
+  while (!candidates.empty() && kept > 1) {
+    const long v = candidates.back();
+    candidates.pop_back();
+    if (eliminated[v] || neighbours[v].size() > 2) continue;
+    std::array<long, 2> u{kNone, kNone};
+    for (size_t k = 0; k < neighbours[v].size(); ++k) u[k] = neighbours[v][k];
+    for (const long w : neighbours[v]) unlink(w, v);
+    if (u[1] != kNone) {
+      link(u[0], u[1]);
+      link(u[1], u[0]);
+    }
+    neighbours[v].clear();
+    eliminated[v] = 1;
+    --kept;
+    order.emplace_back(v, u);
+    for (const long w : u) {
+      if (w != kNone && neighbours[w].size() <= 2) candidates.push_back(w);
+    }
+  }
+  return order;
+}
+
 }  // namespace
 
 struct SparseLevenbergMarquardt::Impl {
@@ -69,8 +117,7 @@ struct SparseLevenbergMarquardt::Impl {
     long u01 = kNone;
   };
   std::vector<Elimination> eliminations;
-  std::vector<std::pair<long, long>> block_pairs;  // per block, its (row, column) variables
-  long tail_begin = 0, tail_end = 0;               // the eliminated blocks in H's values
+  long tail_begin = 0, tail_end = 0;  // the eliminated blocks in H's values
   std::vector<long> kept_touched;
   size_t reduced = 0;  // variables in A
   std::vector<double> saved_tail, saved_kept;
@@ -366,8 +413,7 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
   for (size_t p = 0; p < num_poses; ++p) {
     if (p >= fixed.size() || !fixed[p]) m.variable[p] = static_cast<long>(m.variables++);
   }
-  // The variables eliminated before CHOLMOD: one by one, any joined to at most two others (a
-  // pose of a chain, a leaf), their neighbours then joined to each other (the fill).
+  // The variables eliminated before CHOLMOD, and the fill between their neighbours.
   std::vector<std::vector<long>> neighbours(m.variables);
   for (const LmTerm& t : m.terms) {
     const long a = m.variable[t.i], b = m.variable[t.j];
@@ -375,46 +421,15 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
     neighbours[a].push_back(b);
     neighbours[b].push_back(a);
   }
-  for (auto& list : neighbours) {
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-  }
-  const auto unlink = [&](long from, long v) {
-    auto& list = neighbours[from];
-    list.erase(std::lower_bound(list.begin(), list.end(), v));
-  };
-  const auto link = [&](long a, long b) {
-    auto& list = neighbours[a];
-    const auto at = std::lower_bound(list.begin(), list.end(), b);
-    if (at == list.end() || *at != b) list.insert(at, b);
-  };
   std::vector<char> eliminated(m.variables, 0);
   std::vector<std::pair<long, long>> fill;
-  std::vector<long> candidates;
-  for (size_t v = m.variables; v-- > 0;) {
-    if (neighbours[v].size() <= 2) candidates.push_back(static_cast<long>(v));
-  }
-  size_t kept = m.variables;
-  while (!candidates.empty() && kept > 1) {
-    const long v = candidates.back();
-    candidates.pop_back();
-    if (eliminated[v] || neighbours[v].size() > 2) continue;
+  for (const auto& [v, u] : chainsAndLeaves(std::move(neighbours))) {
     Impl::Elimination e;
     e.v = v;
-    for (size_t k = 0; k < neighbours[v].size(); ++k) e.u[k] = neighbours[v][k];
-    for (const long u : neighbours[v]) unlink(u, v);
-    if (e.u[1] != kNone) {
-      link(e.u[0], e.u[1]);
-      link(e.u[1], e.u[0]);
-      fill.emplace_back(e.u[0], e.u[1]);
-    }
-    neighbours[v].clear();
+    e.u = u;
     eliminated[v] = 1;
-    --kept;
+    if (u[1] != kNone) fill.emplace_back(u[0], u[1]);
     m.eliminations.push_back(e);
-    for (const long u : e.u) {
-      if (u != kNone && neighbours[u].size() <= 2) candidates.push_back(u);
-    }
   }
   // The blocks of H: per variable column, its rows (itself, the variables a term joins it to
   // from above, and the fill).
@@ -432,7 +447,7 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
   }
   // Block ids, column by column; per block its (row, column) variables.
   std::vector<std::vector<long>> block_of(m.variables);  // per column, per row in `rows`
-  std::vector<std::pair<long, long>>& block_at = m.block_pairs;
+  std::vector<std::pair<long, long>> block_at;
   for (size_t c = 0; c < m.variables; ++c) {
     for (const long r : rows[c]) {
       block_of[c].push_back(static_cast<long>(block_at.size()));
