@@ -599,21 +599,23 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
     m.H = store(position, 1, true);
   }
   if (m.H == nullptr) return;
-  // A's values the eliminations update: the neighbours' diagonal blocks and the fill.
+  // A's values the eliminations update: the neighbours' diagonal blocks and the fill, each block
+  // once.
+  std::vector<char> touched(block_at.size(), 0);
   for (const Impl::Elimination& e : m.eliminations) {
     for (int k = 0; k < 2 && e.u[k] != kNone; ++k) {
-      if (eliminated[e.u[k]]) continue;
-      for (int c = 0; c < 6; ++c) {
-        for (int r = 0; r <= c; ++r) m.kept_touched.push_back(m.slot[36 * e.uu[k] + 6 * c + r]);
-      }
+      if (!eliminated[e.u[k]]) touched[e.uu[k]] = 1;
     }
-    if (e.u01 != kNone && !eliminated[e.u[0]] && !eliminated[e.u[1]]) {
-      for (int i = 0; i < 36; ++i) m.kept_touched.push_back(m.slot[36 * e.u01 + i]);
+    if (e.u01 != kNone && !eliminated[e.u[0]] && !eliminated[e.u[1]]) touched[e.u01] = 1;
+  }
+  for (size_t k = 0; k < block_at.size(); ++k) {
+    if (!touched[k]) continue;
+    const bool diagonal = block_at[k].first == block_at[k].second;
+    for (int c = 0; c < 6; ++c) {
+      for (int r = 0; r < (diagonal ? c + 1 : 6); ++r)
+        m.kept_touched.push_back(m.slot[36 * static_cast<long>(k) + 6 * c + r]);
     }
   }
-  std::sort(m.kept_touched.begin(), m.kept_touched.end());
-  m.kept_touched.erase(std::unique(m.kept_touched.begin(), m.kept_touched.end()),
-                       m.kept_touched.end());
 }
 
 SparseLevenbergMarquardt::~SparseLevenbergMarquardt() {
