@@ -675,7 +675,9 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
   if (m.L == nullptr || m.H == nullptr) return finish("the symbolic factorization failed");
   const size_t n = 6 * m.variables;
   Eigen::VectorXd g;
-  double cost = m.linearize(poses, weights, g, options.threads);
+  // Without iterations (a problem prepared for its analysis), the cost alone.
+  double cost = options.max_iterations > 0 ? m.linearize(poses, weights, g, options.threads)
+                                           : m.cost(poses, weights, options.threads);
   summary.initial_cost = summary.final_cost = cost;
   if (!std::isfinite(cost)) return finish("the initial cost is not finite");
   summary.usable = true;
