@@ -109,18 +109,15 @@ struct SparseLevenbergMarquardt::Impl {
   // most two others then. Per elimination: the variable, those neighbours (kNone where fewer),
   // its blocks to them, their diagonal blocks and the block between them (the fill). The blocks
   // of an eliminated variable are stored after A's values (`slot` as for A's, 36 per block,
-  // column-major); per step the eliminations update them and A's blocks in `kept_touched`, and
-  // both are restored after the step.
+  // column-major). The eliminations change H's values: each step starts from H linearized afresh
+  // (a step not taken linearizes again at the same poses, to the same values).
   struct Elimination {
     long v = kNone;
     std::array<long, 2> u{kNone, kNone}, vu{kNone, kNone}, uu{kNone, kNone};
     long u01 = kNone;
   };
   std::vector<Elimination> eliminations;
-  long tail_begin = 0, tail_end = 0;  // the eliminated blocks in H's values
-  std::vector<long> kept_touched;
   size_t reduced = 0;  // variables in A
-  std::vector<double> saved_tail, saved_kept;
   // Per elimination, for the substitution: D_v^-1 rhs_v and H_uv D_v^-1 per neighbour u.
   std::vector<Vector6> solved_rhs;
   std::vector<std::array<Block, 2>> neighbour_products;
@@ -191,10 +188,6 @@ struct SparseLevenbergMarquardt::Impl {
   // H_uw -= H_uv D_v^-1 H_vw and rhs_u -= H_uv D_v^-1 rhs_v for the neighbours u, w of v. False
   // where a D_v is not positive definite.
   bool eliminate(Eigen::VectorXd& rhs) {
-    double* x = static_cast<double*>(H->x);
-    saved_tail.assign(x + tail_begin, x + tail_end);
-    saved_kept.resize(kept_touched.size());
-    for (size_t k = 0; k < kept_touched.size(); ++k) saved_kept[k] = x[kept_touched[k]];
     solved_rhs.resize(eliminations.size());
     neighbour_products.resize(eliminations.size());
     for (size_t k = 0; k < eliminations.size(); ++k) {
@@ -220,7 +213,7 @@ struct SparseLevenbergMarquardt::Impl {
     return true;
   }
   // The eliminated variables' steps from the others', last elimination first:
-  // delta_v = D_v^-1 rhs_v - sum_u (H_uv D_v^-1)^T delta_u; then H as before the eliminations.
+  // delta_v = D_v^-1 rhs_v - sum_u (H_uv D_v^-1)^T delta_u.
   void substituteBack(Eigen::VectorXd& step) {
     for (size_t k = eliminations.size(); k-- > 0;) {
       const Elimination& e = eliminations[k];
@@ -229,12 +222,6 @@ struct SparseLevenbergMarquardt::Impl {
         delta -= neighbour_products[k][n].transpose() * step.segment<6>(6 * e.u[n]);
       step.segment<6>(6 * e.v) = delta;
     }
-    restore();
-  }
-  void restore() {
-    double* x = static_cast<double*>(H->x);
-    std::copy(saved_tail.begin(), saved_tail.end(), x + tail_begin);
-    for (size_t k = 0; k < kept_touched.size(); ++k) x[kept_touched[k]] = saved_kept[k];
   }
 
   // The residual of term k at `poses` and, if `J_i`/`J_j` are given, its tangent Jacobians.
@@ -549,12 +536,10 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
     }
     column_start[n] = at;
     if (values) {
-      m.tail_begin = at;
       for (size_t k = 0; k < block_at.size(); ++k) {
         if (inA(k)) continue;
         for (int i = 0; i < 36; ++i) m.slot[36 * k + i] = at++;
       }
-      m.tail_end = at;
       std::fill_n(static_cast<double*>(A->x), at, 0.0);
     }
     return A;
@@ -597,24 +582,6 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
   if (m.L != nullptr && !m.L->is_super) {
     cholmod_l_free_sparse(&m.H, &m.common);
     m.H = store(position, 1, true);
-  }
-  if (m.H == nullptr) return;
-  // A's values the eliminations update: the neighbours' diagonal blocks and the fill, each block
-  // once.
-  std::vector<char> touched(block_at.size(), 0);
-  for (const Impl::Elimination& e : m.eliminations) {
-    for (int k = 0; k < 2 && e.u[k] != kNone; ++k) {
-      if (!eliminated[e.u[k]]) touched[e.uu[k]] = 1;
-    }
-    if (e.u01 != kNone && !eliminated[e.u[0]] && !eliminated[e.u[1]]) touched[e.u01] = 1;
-  }
-  for (size_t k = 0; k < block_at.size(); ++k) {
-    if (!touched[k]) continue;
-    const bool diagonal = block_at[k].first == block_at[k].second;
-    for (int c = 0; c < 6; ++c) {
-      for (int r = 0; r < (diagonal ? c + 1 : 6); ++r)
-        m.kept_touched.push_back(m.slot[36 * static_cast<long>(k) + 6 * c + r]);
-    }
   }
 }
 
@@ -706,7 +673,7 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
       break;
     }
     ++summary.iterations;
-    // (H + D / radius) delta = -g, with H's values kept for the next damping.
+    // (H + D / radius) delta = -g, damped and eliminated in place: the next step linearizes anew.
     auto* x = static_cast<double*>(m.H->x);
     for (size_t v = 0; v < m.variables; ++v) {
       for (int c = 0; c < 6; ++c) {
@@ -732,12 +699,8 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
       }
       cholmod_l_free_dense(&delta, &m.common);
       m.substituteBack(step);
-    } else {
-      m.restore();
     }
-    for (size_t v = 0; v < m.variables; ++v) {  // back to H
-      for (int c = 0; c < 6; ++c) x[m.diagonalSlot(v, c)] -= diagonal[6 * v + c] / radius;
-    }
+    linearized = false;
     bool taken = false;
     if (!solved && ++invalid_steps >= kMaxConsecutiveInvalidSteps) {
       why = "the damped normal equations could not be factorized";
@@ -774,7 +737,6 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
           std::copy(candidate.begin(), candidate.end(), poses.begin());  // in place
           const double previous = cost;
           cost = new_cost;
-          linearized = false;
           radius = std::min(kMaxRadius,
                             radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3)));
           decrease_factor = 2.0;
