@@ -15,6 +15,14 @@ SceneGraph optimizedMap(const SceneGraph& frontend,
                         std::map<RobotId, Eigen::Isometry3d>* first_keyframes,
                         std::map<RobotId, MeshBinding>* bindings) {
   SceneGraph graph;
+  size_t vertices = 0, faces = 0;
+  for (const RobotDeformationInput& robot : robots) {
+    if (robot.mesh == nullptr) continue;
+    vertices += robot.mesh->vertices.size();
+    faces += robot.mesh->faces.size();
+  }
+  graph.mesh().vertices.reserve(vertices);
+  graph.mesh().faces.reserve(faces);
   if (first_keyframes != nullptr) first_keyframes->clear();
   if (bindings != nullptr) {
     // Robots no longer aligned leave.
@@ -42,29 +50,31 @@ SceneGraph optimizedMap(const SceneGraph& frontend,
         cp_times.push_back(cp.time_ns);
       }
     }
-    // The mesh: aligned, then deformed (bound in the robot's frame, kept when `bindings`).
-    std::vector<MeshVertex> before, after;
+    // The mesh: aligned, then deformed (bound in the robot's frame, kept when `bindings`); its
+    // vertices' positions before (`aligned`) and after (`moved`).
+    std::vector<Eigen::Vector3f> aligned, moved;
+    const uint64_t vertex_offset = graph.mesh().vertices.size();
     if (robot.mesh != nullptr) {
-      std::vector<Eigen::Vector3f> aligned;
       aligned.reserve(robot.mesh->vertices.size());
-      for (MeshVertex v : robot.mesh->vertices) {
-        v.position = (T * v.position.cast<double>()).cast<float>();
-        aligned.push_back(v.position);
-        before.push_back(v);
-      }
+      for (const MeshVertex& v : robot.mesh->vertices)
+        aligned.push_back((T * v.position.cast<double>()).cast<float>());
       MeshBinding fresh;
       MeshBinding& binding = bindings != nullptr ? (*bindings)[robot.robot] : fresh;
       bindMesh(binding, robot.mesh->vertices, cp_local, cp_times, options.link_max_dt_s,
                mesh_neighbours);
-      const std::vector<Eigen::Vector3f> moved =
-          blendMesh(binding, aligned, cp_initial, cp_optimized);
-      after = before;
-      for (size_t i = 0; i < after.size(); ++i) after[i].position = moved[i];
+      moved = blendMesh(binding, aligned, cp_initial, cp_optimized);
+      for (size_t i = 0; i < moved.size(); ++i) {
+        graph.mesh().vertices.push_back(robot.mesh->vertices[i]);
+        graph.mesh().vertices.back().position = moved[i];
+      }
+      for (MeshFace f : robot.mesh->faces) {
+        for (uint32_t& i : f) i += static_cast<uint32_t>(vertex_offset);
+        graph.mesh().faces.push_back(f);
+      }
     }
     std::vector<Eigen::Vector3d> cp_centres;
     for (const Eigen::Isometry3d& c : cp_initial) cp_centres.push_back(c.translation());
     const TimedNeighbors near_cp(cp_centres, cp_times, windowNs(options.link_max_dt_s));
-    const uint64_t vertex_offset = graph.mesh().vertices.size();
     int64_t first_time = std::numeric_limits<int64_t>::max();
     for (const NodeId id : frontend.nodesOfRobot(robot.robot)) {
       Node node = frontend.getNode(id);
@@ -85,8 +95,8 @@ SceneGraph optimizedMap(const SceneGraph& frontend,
         Eigen::Vector3d shift = Eigen::Vector3d::Zero();
         size_t counted = 0;
         for (const uint64_t v : object->mesh_vertices) {
-          if (v >= before.size()) continue;
-          shift += (after[v].position - before[v].position).cast<double>();
+          if (v >= moved.size()) continue;
+          shift += (moved[v] - aligned[v]).cast<double>();
           ++counted;
         }
         if (counted > 0) {
@@ -107,13 +117,6 @@ SceneGraph optimizedMap(const SceneGraph& frontend,
         continue;  // rooms and buildings are the backend's own
       }
       graph.addOrUpdateNode(std::move(node));
-    }
-    for (const MeshVertex& v : after) graph.mesh().vertices.push_back(v);
-    if (robot.mesh != nullptr) {
-      for (MeshFace f : robot.mesh->faces) {
-        for (uint32_t& i : f) i += static_cast<uint32_t>(vertex_offset);
-        graph.mesh().faces.push_back(f);
-      }
     }
   }
   for (const auto& [key, info] : frontend.edges()) {
