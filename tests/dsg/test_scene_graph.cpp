@@ -110,7 +110,8 @@ TEST(SceneGraph, MergeAndUndo) {
   g.addOrUpdateNode(o1);
   const SceneGraph before = g;
 
-  const MergeRecord record = g.mergeNodes(kObject1, kObject2);
+  MergeRecord record;
+  g.mergeNodes(kObject1, kObject2, &record);
   EXPECT_FALSE(g.hasNode(kObject2));
   const Node& merged = g.getNode(kObject1);
   EXPECT_EQ(merged.position, Eigen::Vector3d(1, 1, 1));
@@ -167,7 +168,8 @@ TEST(SceneGraph, RobotAndLayerQueriesFollowEveryChange) {
   g.addOrUpdateNode(makeNode(o2, Layer::kObjects, {1, 0, 0}));
   g.addOrUpdateNode(makeNode(NodeId('c', 3), Layer::kAgents));
   check(g);
-  const MergeRecord record = g.mergeNodes(o1, o2);
+  MergeRecord record;
+  g.mergeNodes(o1, o2, &record);
   check(g);
   ASSERT_TRUE(g.undoMerge(record).ok());
   check(g);
@@ -190,7 +192,8 @@ TEST(SceneGraph, RobotAndLayerQueriesFollowEveryChange) {
 TEST(SceneGraph, MergeMovesChildren) {
   SceneGraph g = smallGraph();
   const SceneGraph before = g;
-  const MergeRecord record = g.mergeNodes(kPlace1, kPlace2);
+  MergeRecord record;
+  g.mergeNodes(kPlace1, kPlace2, &record);
   EXPECT_EQ(g.parent(kAgent1), kPlace1);
   EXPECT_FALSE(g.hasEdge(kPlace1, kPlace2));
   ASSERT_TRUE(g.undoMerge(record).ok());

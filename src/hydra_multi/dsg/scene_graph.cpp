@@ -225,7 +225,7 @@ size_t SceneGraph::numNodes(Layer layer) const {
   return it == by_layer_.end() ? 0 : it->second.size();
 }
 
-MergeRecord SceneGraph::mergeNodes(NodeId target, NodeId source) {
+void SceneGraph::mergeNodes(NodeId target, NodeId source, MergeRecord* record) {
   const Node* target_node = findNode(target);
   const Node* source_node = findNode(source);
   if (!target_node || !source_node || target == source) {
@@ -236,27 +236,30 @@ MergeRecord SceneGraph::mergeNodes(NodeId target, NodeId source) {
     throw std::invalid_argument("merge " + source.str() + " into " + target.str() +
                                 ": only nodes of one layer other than agents merge");
   }
-  MergeRecord record{*target_node, *source_node, {}, {}};
-  for (const NodeId other : adjacency_.at(source)) {
-    record.source_edges.push_back({source, other, edges_.at(EdgeKey(source, other))});
+  if (record != nullptr) {
+    record->target_before = *target_node;
+    record->source = *source_node;
   }
+  std::vector<Edge> source_edges;
+  for (const NodeId other : adjacency_.at(source))
+    source_edges.push_back({source, other, edges_.at(EdgeKey(source, other))});
+  // The source's edges the target takes: not to itself, not one it has, not a second parent.
   const int target_level = layerLevel(target_node->layer());
   const bool target_has_parent = parent(target).has_value();
-  for (const Edge& edge : record.source_edges) {
+  std::vector<const Edge*> moved;
+  for (const Edge& edge : source_edges) {
     const NodeId other = edge.target;
     if (other == target || hasEdge(target, other)) continue;
     const bool is_parent_edge = layerLevel(getNode(other).layer()) > target_level;
     if (is_parent_edge && target_has_parent) continue;
-    record.moved_to_target.push_back(other);
+    moved.push_back(&edge);
   }
   fuseAttributes(*findMutableNode(target), *source_node);
   removeNode(source);
-  for (const NodeId other : record.moved_to_target) {
-    const Edge& edge = *std::find_if(record.source_edges.begin(), record.source_edges.end(),
-                                     [other](const Edge& e) { return e.target == other; });
-    addOrUpdateEdge(target, other, edge.info);
-  }
-  return record;
+  for (const Edge* edge : moved) addOrUpdateEdge(target, edge->target, edge->info);
+  if (record == nullptr) return;
+  for (const Edge* edge : moved) record->moved_to_target.push_back(edge->target);
+  record->source_edges = std::move(source_edges);
 }
 
 Status SceneGraph::undoMerge(const MergeRecord& record) {

@@ -85,8 +85,9 @@ class SceneGraph {
   /// Merges node `source` into node `target` (same layer, not agents): the edges of the source move
   /// to the target (the target keeps its own parent if it has one), the attributes are fused
   /// (positions averaged, boxes and mesh vertices united, the target's label and name kept), and
-  /// the source is removed. Throws std::invalid_argument on misuse.
-  MergeRecord mergeNodes(NodeId target, NodeId source);
+  /// the source is removed. `record` (may be null): where what the merge did is written, for
+  /// undoMerge(). Throws std::invalid_argument on misuse.
+  void mergeNodes(NodeId target, NodeId source, MergeRecord* record = nullptr);
   /// Takes a merge back: the target gets its attributes from before the merge, loses the edges the
   /// merge gave it, and the source comes back with the edges whose other end still exists. Fails
   /// (and changes nothing) when the target is gone or the source id is in use again.
