@@ -13,18 +13,9 @@
 //      opening between them is wider than a door.
 // Rooms get a room node at the mean of their places, and every room the building node as parent.
 //
-// The defaults depart from DESIGN.md's (median, seeds of 10 places, no joining), measured on all
-// five presets over 5 seeds (README, `trials`). DESIGN.md's rule suits rooms of many places
-// (office-3: 9-11 rooms of 12), but a student room of the dorm presets holds 8 places: it cannot
-// seed, and with smaller seeds it stands apart over a few thresholds only, where the median does
-// not fall; every dorm floor came out one room (precision 0.36), residence-3f 3-4 rooms of 39.
-// The most seeds separate them, and on office-3 also split large rooms where furniture narrows
-// the free space (23-29 rooms of 12); the pieces meet through openings wider than the doors (the
-// simulated doors are 0.9 m wide, clearance 0.4-0.5 m; the pieces' links 0.54-1.0 m), so joining
-// rooms across a clearance above 0.55 m puts them back. Measured, default against DESIGN.md's:
-// dorm floors 21-37 rooms of 37, precision 0.97-0.98 against 0.36, recall the same;
-// residence-3f 34-36 of 39, precision 0.98 against 0.35; office-3 8-16 of 12, precision 0.95
-// against 0.94, recall 0.77 against 0.73. config/hydra-rooms.json restores DESIGN.md's rule.
+// The defaults depart from DESIGN.md's (the median threshold, seeds of 10 places, no joining):
+// docs/DECISIONS.md "Rooms from the most seeds, joined across openings wider than a door".
+// config/hydra-rooms.json restores DESIGN.md's rule.
 
 #include <vector>
 

@@ -27,10 +27,8 @@ const char* residualTypeName(ResidualType type);
 struct PoseGraphOptimizerOptions {
   ResidualType residual = ResidualType::kGeodesic;
   int max_iterations = 100;  ///< Levenberg-Marquardt iterations per solve
-  /// Relative cost change that ends a solve. 1e-4 ends within 0.05 % of the certified optimum on
-  /// sphere2500 and parking-garage from a chordal initialization (measured: bench_pgo); near the
-  /// optimum Gauss-Newton converges only linearly on the chordal cost, so 1e-6 costs 5-10x the
-  /// time for the last 0.05 %.
+  /// Relative cost change that ends a solve (docs/DECISIONS.md "The backend's solves stop at a
+  /// relative cost change of 1e-4, not 1e-3").
   double function_tolerance = 1e-4;
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-10;
@@ -39,8 +37,9 @@ struct PoseGraphOptimizerOptions {
   /// one thread's, to the bit).
   int linearization_threads = 1;
   /// Sparse Cholesky is exact and fast while the graph stays sparse; outlier loop closures that
-  /// join random poses make its factor dense (sphere2500 with 50 % outliers: ~9 s per iteration),
-  /// where Jacobi-preconditioned conjugate gradients (no fill-in) are the only affordable step.
+  /// join random poses make its factor dense, where Jacobi-preconditioned conjugate gradients (no
+  /// fill-in) are the only affordable step (docs/DECISIONS.md "Conjugate gradients by the
+  /// factor's fill, not by a timed iteration").
   enum class LinearSolver {
     kSparseCholesky,
     kConjugateGradients

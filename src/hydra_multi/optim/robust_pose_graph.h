@@ -21,7 +21,7 @@ struct RobustPgoOptions {
   /// solution (warm start, the default).
   bool restart_from_initial = false;
   /// Outlier loop closures join random poses, and the sparse Cholesky factor of a pattern that
-  /// holds them fills in (sphere2500 with 50 % outliers: ~9 s per iteration instead of 0.13 s).
+  /// holds them fills in.
   /// When one factorization takes more than this many MFLOP per free pose (CHOLMOD's analysis of
   /// the pattern: fixed, whatever the load of the machine), the GNC solves use conjugate
   /// gradients, and the result is polished by one Cholesky solve over the known inliers and the
@@ -35,9 +35,8 @@ struct RobustPgoOptions {
   bool readmit_consistent = true;
   /// Levenberg-Marquardt iterations of each GNC solve (0: solver.max_iterations). GNC re-weights
   /// after every solve, so inner solves need not converge, and short ones keep GNC near a good
-  /// initial estimate while the loop-closure weights are still small. Measured on CSAIL with 250
-  /// spurious closures: 3 iterations, recall 1.0 in 5 s; 10 or 100, recall 0.906 in 11-15 s;
-  /// grid1000 classifies the same either way.
+  /// initial estimate while the loop-closure weights are still small (docs/DECISIONS.md "Three
+  /// iterations per GNC solve in the station, not one").
   int gnc_inner_iterations = 3;
   /// GNC's mu step (GncOptions::mu_step) when at least as many robust factors are known inliers as
   /// are undecided: an incremental round deciding what is new beside what earlier rounds kept.
