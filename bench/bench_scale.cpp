@@ -3,7 +3,8 @@
 // last round, from scratch on the final state, apart) and per stage (the last
 // round's, and each stage's share of all rounds), the frontend's time per update, the peak memory
 // and the accuracy; and a plot of every round's backend time against the deformation graph's
-// poses, one colour per team. Build in Release (`make bench-scale` runs the teams first).
+// poses, one colour per team; then which of issue 22's targets the teams that have one meet.
+// Build in Release (`make bench-scale` runs the teams first).
 //
 //   bench_scale OUT.svg LABEL=RUN_DIR [LABEL=RUN_DIR ...]
 
@@ -149,6 +150,40 @@ int main(int argc, char** argv) {
       std::printf(" %.2f (%.0f %%) |", t.rounds.back().stages_ms[k] / 1e3,
                   all > 0 ? 100.0 * total[k] / all : 0.0);
     std::printf("\n");
+  }
+  // Issue 22's targets, for the teams that have one (labels "R robots, scale S", as
+  // scripts/bench_scale.sh names them): every round, the last one from scratch included.
+  std::printf("\nIssue 22's targets\n\n| target | measured | met |\n| --- | --- | --- |\n");
+  double frontend_low = INFINITY, frontend_high = 0.0;
+  for (const Team& t : teams) {
+    const double frontend = median(t.frontend_ms);
+    frontend_low = std::min(frontend_low, frontend);
+    frontend_high = std::max(frontend_high, frontend);
+    int robots = 0, scale = 0;
+    if (std::sscanf(t.label.c_str(), "%d robots, scale %d", &robots, &scale) != 2) continue;
+    const double limit_s = robots == 10 && scale == 2 ? 2.0 : robots == 20 && scale == 3 ? 5.0 : 0;
+    if (limit_s > 0) {
+      double mapping = 0.0, last = 0.0;
+      for (const Round& r : t.rounds) {
+        double& worst = r.from_scratch ? last : mapping;
+        worst = std::max(worst, r.ms / 1e3);
+      }
+      const char* met = std::max(mapping, last) <= limit_s ? "yes" : "no";
+      std::printf(
+          "| %s: every round within %.0f s | max %.2f s while mapping, the last round "
+          "%.2f s | %s |\n",
+          t.label.c_str(), limit_s, mapping, last, met);
+    }
+    if (robots == 20 && scale == 3) {
+      const double mb = number(t.metrics, "peak_memory_mb");
+      std::printf("| %s: peak memory within 8 GB | %.0f MB | %s |\n", t.label.c_str(), mb,
+                  mb <= 8192 ? "yes" : "no");
+    }
+  }
+  if (!teams.empty()) {
+    std::printf(
+        "| the frontend's median per update within 10 ms, every team | %.1f-%.1f ms | %s |\n",
+        frontend_low, frontend_high, frontend_high <= 10.0 ? "yes" : "no");
   }
   // Every round's time against the graph's size, a colour per team.
   std::vector<TrialRun> runs;
