@@ -94,8 +94,8 @@ bench-bandwidth: build
 
 # The station at team scale: office-3 with 2-20 robots at scales 1-3 (TEAMS="2x1 10x2 ...": a
 # subset), each simulated and run; per team graph size, backend time per round and stage,
-# frontend time, peak memory, accuracy, and backend time against graph size as SVG. Runs already
-# made are reused (REDO=1: not). The full sweep takes hours on 2 cores with today's backend.
+# frontend time, peak memory, accuracy, backend time against graph size as SVG, and issue 22's
+# targets met or not. Runs already made are reused (REDO=1: not).
 TEAMS ?=
 bench-scale: build
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target bench_scale -- --no-print-directory

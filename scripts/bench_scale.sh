@@ -1,17 +1,18 @@
 #!/usr/bin/env bash
 # The station at team scale (issue 22): office-3 with TEAMS (ROBOTSxSCALE each; by default 2, 5,
-# 10, 15 and 20 robots at scales 1, 2 and 3), one seed, each simulated and run (`run --speed 0`,
-# the backend as fast as it goes), then per team the final graph's size, the backend's time per
-# round and per stage, the frontend's time per update, peak memory and accuracy, and a plot of
-# backend time against graph size (bench_scale). A team whose run folder already holds
-# metrics.json is not run again unless REDO=1.
+# 10, 15 and 20 robots at scales 1, 2 and 3, and 3 robots at scale 1: office-3 itself), one seed,
+# each simulated and run (`run --speed 0`, the backend as fast as it goes), then per team the
+# final graph's size, the backend's time per round and per stage, the frontend's time per update,
+# peak memory and accuracy, a plot of backend time against graph size, and issue 22's targets
+# (bench_scale). A team whose run folder already holds metrics.json is not run again unless
+# REDO=1.
 #   usage: bench_scale.sh HYDRA_MULTI BENCH_SCALE OUT_DIR [SEED] [TEAMS]
 set -euo pipefail
 bin=${1:?usage: bench_scale.sh HYDRA_MULTI BENCH_SCALE OUT_DIR [SEED] [TEAMS]}
 summary=${2:?}
 out=${3:?}
 seed=${4:-1}
-teams=${5:-"2x1 5x1 10x1 15x1 20x1 2x2 5x2 10x2 15x2 20x2 2x3 5x3 10x3 15x3 20x3"}
+teams=${5:-"2x1 3x1 5x1 10x1 15x1 20x1 2x2 5x2 10x2 15x2 20x2 2x3 5x3 10x3 15x3 20x3"}
 mkdir -p "$out"
 args=()
 for team in $teams; do
