@@ -98,6 +98,11 @@ TEST_F(TinyTeam, FullRound) {
   EXPECT_EQ(report.merges_undone, 0u);
   EXPECT_GT(backend.graph().mesh().vertices.size(), 5000u);
   EXPECT_GT(report.factors, report.variables);
+  // Where the round's time went: its solves, of them the factorizations, and their analyses.
+  EXPECT_GT(report.solver_time.factorization_s, 0.0);
+  EXPECT_LE(report.solver_time.factorization_s, report.solver_time.solve_s);
+  EXPECT_GT(report.solver_time.analysis_s, 0.0);
+  EXPECT_LT(report.solver_time.solve_s + report.solver_time.analysis_s, report.time_s);
 
   const SceneGraphScore score = evaluateSceneGraph(backend.graph(), *truth_);
   EXPECT_EQ(score.matched_keyframes,

@@ -168,7 +168,7 @@ TEST(PoseGraphOptimizer, ASolveAfterOthersWithOtherWeightsIsAsAFirstSolve) {
   std::vector<double> weights(g.edges.size(), 1.0);
   for (size_t k = 0; k < weights.size(); k += 4) weights[k] = 0.0;
   reused.setWeights(weights);
-  reused.solve();
+  const SolveSummary analyzed = reused.solve();
   std::vector<double> halves(g.edges.size(), 0.5);
   reused.setWeights(halves);
   reused.solve();
@@ -183,6 +183,14 @@ TEST(PoseGraphOptimizer, ASolveAfterOthersWithOtherWeightsIsAsAFirstSolve) {
   for (const auto& [id, T] : fresh.poses())
     EXPECT_LT((T.matrix() - reused.poses().at(id).matrix()).norm(), 1e-12);
   EXPECT_LT((reused.poses().at(anchor).matrix() - start.at(anchor).matrix()).norm(), 1e-12);
+  // The first solve of each problem reports its analysis; the solves after it reuse it.
+  EXPECT_GT(analyzed.analysis_s, 0.0);
+  EXPECT_GT(first.analysis_s, 0.0);
+  EXPECT_EQ(again.analysis_s, 0.0);
+  for (const SolveSummary* s : {&analyzed, &first, &again}) {
+    EXPECT_GT(s->factorization_s, 0.0);
+    EXPECT_LE(s->factorization_s, s->time_s);
+  }
 }
 
 // A local solve: with poses held constant at the optimum, the others, moved off it, come back to

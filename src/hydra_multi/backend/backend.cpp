@@ -239,6 +239,7 @@ Backend::Proposals Backend::proposeOnLoopClosureSolve(
   const DeformationResult solved = optimizeDeformationGraph(graph, skeleton, held_out, &warm);
   report.verdicts_redecided += solved.solve.known_contradicted;
   report.solves += solved.solve.solves;
+  report.solver_time += solved.solver_time;
   proposals.held_out = solved.solve.held_out_poses;
   proposals.solved.poses = solved.poses;
   proposals.solved.verdicts = solved.robust_inlier;
@@ -364,6 +365,7 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   report.verdicts_redecided += result.solve.known_contradicted;
   report.merges_admitted = result.admitted;
   report.solves += result.solve.solves + (result.whole_graph_free > 0 ? 1 : 0);
+  report.solver_time += result.solver_time;
   report.whole_graph_s = result.whole_graph_s;
   report.whole_graph_free = result.whole_graph_free;
   report.whole_graph_ahead = result.whole_graph_analyzed_ahead;

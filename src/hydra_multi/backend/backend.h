@@ -100,6 +100,9 @@ struct BackendRoundReport {
   /// Of build_s: the loop closures' solve (its deformation graph built and solved without
   /// merges), and the merge candidates on it (proposals and their ICP).
   double loop_closure_solve_s = 0.0, candidates_s = 0.0;
+  /// The round's pose-graph solves (the loop closures', GNC's with merges, the whole graph's):
+  /// their time in Levenberg-Marquardt, of it the factorizations, and their analyses.
+  SolverTime solver_time;
   /// Incremental rounds: robust factors (loop closures, merges) taken as decided from the last
   /// round, and those of them the solve contradicted and GNC decided again.
   size_t verdicts_known = 0, verdicts_redecided = 0;

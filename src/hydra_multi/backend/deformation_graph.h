@@ -122,6 +122,7 @@ struct DeformationResult {
   std::map<std::pair<NodeId, NodeId>, bool> robust_inlier;  ///< per robust factor (from, to)
   RobustPgoResult solve;        ///< GNC's solve (over the skeleton when two_stage)
   double whole_graph_s = 0.0;   ///< the whole-graph solve after it (two_stage)
+  SolverTime solver_time;       ///< GNC's solves and the whole graph's
   size_t whole_graph_free = 0;  ///< poses that solve moved (local_whole_graph: not all)
   size_t admitted = 0;          ///< held-out factors known as they fit the start (admit_if_fitting)
   /// The whole-graph solve took the analysis made ahead (whole_graph_analysis_ahead).

@@ -202,6 +202,7 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
     });
   }
   result.solve = optimizePoseGraph(robust, initial_poses, graph.anchor, solver);
+  result.solver_time = result.solve.solver_time;
   if (analyzing.valid()) analyzing.wait();
   result.poses = result.solve.poses;
   for (size_t i = 0; i < robust.edges.size(); ++i) {
@@ -248,6 +249,7 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
     const bool prepared = ahead != nullptr && ahead->holds();
     plain.solver.analyses = ahead;
     const RobustPgoResult solved = optimizePoseGraph(whole, initial, graph.anchor, plain);
+    result.solver_time += solved.solver_time;
     result.whole_graph_analyzed_ahead = prepared && !ahead->holds();
     if (solved.usable) result.poses = solved.poses;
     result.whole_graph_free = initial.size();
@@ -266,6 +268,7 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
     }
     if (!local.edges.empty()) {
       const RobustPgoResult solved = optimizePoseGraph(local, local_initial, graph.anchor, plain);
+      result.solver_time += solved.solver_time;
       if (solved.usable) {
         for (const NodeId id : *changed) result.poses[id] = solved.poses.at(id);
       }

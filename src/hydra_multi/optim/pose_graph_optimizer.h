@@ -60,6 +60,28 @@ struct SolveSummary {
   double initial_cost = 0;  ///< Ceres' cost: 1/2 sum of weighted squared residuals
   double final_cost = 0;
   double time_s = 0;
+  /// Sparse Cholesky: of time_s, the numeric factorizations; and before the solve, the analysis
+  /// of the problem's pattern (its ordering and symbolic factorization) since the last solve.
+  double factorization_s = 0;
+  double analysis_s = 0;
+};
+
+/// Where solves' time went, summed over them (SolveSummary): in Levenberg-Marquardt, of it in the
+/// numeric factorizations, and in the analyses of the problems' patterns before them.
+struct SolverTime {
+  double solve_s = 0.0, factorization_s = 0.0, analysis_s = 0.0;
+  SolverTime& operator+=(const SolveSummary& s) {
+    solve_s += s.time_s;
+    factorization_s += s.factorization_s;
+    analysis_s += s.analysis_s;
+    return *this;
+  }
+  SolverTime& operator+=(const SolverTime& o) {
+    solve_s += o.solve_s;
+    factorization_s += o.factorization_s;
+    analysis_s += o.analysis_s;
+    return *this;
+  }
 };
 
 class PoseGraphProblem {

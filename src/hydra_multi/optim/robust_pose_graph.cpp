@@ -121,6 +121,7 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
   const auto record = [&result](const SolveSummary& summary) {
     result.solver_iterations += summary.iterations;
     ++result.solves;
+    result.solver_time += summary;
     result.final_cost = summary.final_cost;
     result.usable = summary.usable;
     result.message = summary.message;
@@ -320,6 +321,7 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
       solveOverInliers(graph, result.edge_inlier, result.poses, anchor, options);
   result.solver_iterations += summary.iterations;
   ++result.solves;
+  result.solver_time += summary;
   result.final_cost = summary.final_cost;
   result.usable = result.usable && summary.usable;
   result.message = summary.message;

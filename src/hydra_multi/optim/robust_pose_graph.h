@@ -84,6 +84,7 @@ struct RobustPgoResult {
   std::map<NodeId, Eigen::Isometry3d> held_out_poses;
   int solver_iterations = 0;  ///< Levenberg-Marquardt iterations over all solves
   int solves = 0;
+  SolverTime solver_time;         ///< over all solves
   size_t known_contradicted = 0;  ///< known inliers GNC had to decide again (known_inlier)
   double final_cost = 0.0;        ///< Ceres cost of the last solve (weighted)
   double time_s = 0.0;

@@ -688,8 +688,12 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
     for (size_t k = 0; k < n; ++k) {
       if (m.permuted[k] != kNone) rhs[m.permuted[k]] = rhs_of[static_cast<Eigen::Index>(k)];
     }
+    const auto factorization_start = std::chrono::steady_clock::now();
     const bool positive =
         eliminated && cholmod_l_factorize(m.H, m.L, &m.common) && m.common.status == CHOLMOD_OK;
+    summary.factorization_s +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - factorization_start)
+            .count();
     cholmod_dense* delta = positive ? cholmod_l_solve(CHOLMOD_A, m.L, b, &m.common) : nullptr;
     const bool solved = delta != nullptr;
     if (solved) {

@@ -59,6 +59,7 @@ struct LmSummary {
   int iterations = 0;  ///< steps tried, taken or not
   double initial_cost = 0.0, final_cost = 0.0;
   double time_s = 0.0;
+  double factorization_s = 0.0;  ///< of time_s: CHOLMOD's numeric factorizations
 };
 
 class SparseAnalyses;
