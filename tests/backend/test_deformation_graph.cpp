@@ -517,5 +517,42 @@ TEST(DeformationGraph, AnObjectIsOfTheTimeOfItsVertices) {
   EXPECT_EQ(madeAtNs(place, &mesh), 42 * kS);
 }
 
+// On a coarser grid, each voxel keeps the first control point the robot made in it, and the
+// rigidity edges join the kept points of their ends' voxels, once each; a robot's later points
+// only add to the result.
+TEST(DeformationGraph, CoarserControlPointsKeepTheFirstOfEachVoxel) {
+  // A 2.5 m lattice of 4 x 2 points along x and y (ids 0-7, made in that order), a 5 m grid.
+  std::vector<ControlPoint> points;
+  std::vector<ControlPointEdge> edges;
+  for (uint64_t id = 0; id < 8; ++id) {
+    ControlPoint cp;
+    cp.id = id;
+    cp.position = {2.5 * double(id % 4) + 0.1, 2.5 * double(id / 4) + 0.1, 0.0};
+    cp.time_ns = int64_t(id) * 1'000'000'000;
+    points.push_back(cp);
+    if (id % 4 != 0) edges.push_back({id - 1, id});  // along x
+    if (id >= 4) edges.push_back({id - 4, id});      // along y
+  }
+  const ControlPointGraph coarse = coarserControlPoints(points, edges, 5.0);
+  // Voxels [0, 5) and [5, 10) in x, one in y: points 0 and 2 kept, 1, 4, 5 join 0 and 3, 6, 7
+  // join 2.
+  ASSERT_EQ(coarse.points.size(), 2u);
+  EXPECT_EQ(coarse.points[0], points[0]);
+  EXPECT_EQ(coarse.points[1], points[2]);
+  // Edges within a voxel vanish; the two across (1-2 and 5-6) become one edge 0-2.
+  ASSERT_EQ(coarse.edges.size(), 1u);
+  EXPECT_EQ(coarse.edges[0], (ControlPointEdge{0, 2}));
+  // The first points alone give a prefix of the result.
+  const ControlPointGraph earlier = coarserControlPoints({points.begin(), points.begin() + 2},
+                                                         {edges.begin(), edges.begin() + 1}, 5.0);
+  ASSERT_EQ(earlier.points.size(), 1u);
+  EXPECT_EQ(earlier.points[0], points[0]);
+  EXPECT_TRUE(earlier.edges.empty());
+  // A voxel no larger than the points' spacing keeps them all.
+  const ControlPointGraph same = coarserControlPoints(points, edges, 2.5);
+  EXPECT_EQ(same.points, points);
+  EXPECT_EQ(same.edges.size(), edges.size());
+}
+
 }  // namespace
 }  // namespace hydra_multi

@@ -145,8 +145,16 @@ Backend::Team Backend::alignedTeam(const std::vector<BackendRobot>& robots) cons
   for (const BackendRobot& robot : robots) {
     const auto it = aligned_.find(robot.robot);
     if (it == aligned_.end()) continue;
-    team.inputs.push_back({robot.robot, it->second.T_global_robot, robot.pose_graph,
-                           robot.control_points, robot.control_point_edges, robot.mesh});
+    const std::vector<ControlPoint>* points = robot.control_points;
+    const std::vector<ControlPointEdge>* edges = robot.control_point_edges;
+    if (options_.deformation.control_point_voxel > 0.0 && points != nullptr && edges != nullptr) {
+      const ControlPointGraph& coarse = team.coarse[robot.robot] =
+          coarserControlPoints(*points, *edges, options_.deformation.control_point_voxel);
+      points = &coarse.points;
+      edges = &coarse.edges;
+    }
+    team.inputs.push_back(
+        {robot.robot, it->second.T_global_robot, robot.pose_graph, points, edges, robot.mesh});
     team.T_global_robot[robot.robot] = it->second.T_global_robot;
     team.meshes[robot.robot] = robot.mesh;
   }

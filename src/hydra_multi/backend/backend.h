@@ -165,6 +165,9 @@ class Backend {
     std::vector<RobotDeformationInput> inputs;
     std::map<RobotId, Eigen::Isometry3d> T_global_robot;
     std::map<RobotId, const Mesh*> meshes;
+    /// The control points `inputs` point to where the station takes fewer than the robots sent
+    /// (DeformationGraphOptions::control_point_voxel); a map, so that moving a Team keeps them.
+    std::map<RobotId, ControlPointGraph> coarse;
   };
   struct Proposals {
     std::vector<MergeCandidate> candidates;

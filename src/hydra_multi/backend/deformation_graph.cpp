@@ -1,8 +1,11 @@
 #include "hydra_multi/backend/deformation_graph.h"
 
+#include <algorithm>
+#include <array>
 #include <cstdlib>
 #include <limits>
 #include <set>
+#include <unordered_map>
 
 #include "hydra_multi/core/nearest_neighbors.h"
 
@@ -45,6 +48,29 @@ int64_t madeAtNs(const Node& node, const Mesh* mesh) {
   const auto middle = times.begin() + static_cast<std::ptrdiff_t>(times.size() / 2);
   std::nth_element(times.begin(), middle, times.end());
   return *middle;
+}
+
+ControlPointGraph coarserControlPoints(const std::vector<ControlPoint>& points,
+                                       const std::vector<ControlPointEdge>& edges, double voxel) {
+  ControlPointGraph coarse;
+  std::map<std::array<int64_t, 3>, uint64_t> first_in;  // voxel -> its kept point
+  std::unordered_map<uint64_t, uint64_t> kept_for;      // point -> the kept point of its voxel
+  kept_for.reserve(points.size());
+  for (const ControlPoint& cp : points) {
+    const Eigen::Vector3d cell = (cp.position / voxel).array().floor();
+    const auto [it, first] =
+        first_in.try_emplace({int64_t(cell.x()), int64_t(cell.y()), int64_t(cell.z())}, cp.id);
+    kept_for[cp.id] = it->second;
+    if (first) coarse.points.push_back(cp);
+  }
+  std::set<std::pair<uint64_t, uint64_t>> joined;
+  for (const ControlPointEdge& e : edges) {
+    const auto a = kept_for.find(e.from), b = kept_for.find(e.to);
+    if (a == kept_for.end() || b == kept_for.end() || a->second == b->second) continue;
+    if (joined.insert(std::minmax(a->second, b->second)).second)
+      coarse.edges.push_back({a->second, b->second});
+  }
+  return coarse;
 }
 
 DeformationGraph buildDeformationGraph(const SceneGraph& frontend,

@@ -1,9 +1,9 @@
 #pragma once
 // The embedded deformation graph of the whole team (paper III-B, eq. 3; Sumner 2007, Kimera-PGMO),
 // as one SE(3) pose graph solved robustly (optim/robust_pose_graph.h, GNC with TLS):
-//   nodes    every aligned robot's keyframes, mesh control points, places and the objects of
-//            merge candidates, initialized in the global frame through the robot's alignment
-//            (initial_alignment.h);
+//   nodes    every aligned robot's keyframes, mesh control points (the first of each voxel of
+//            control_point_voxel), places and the objects of merge candidates, initialized in the
+//            global frame through the robot's alignment (initial_alignment.h);
 //   factors  known inliers: odometry, mesh rigidity between connected control points, links from
 //            keyframes to the control points they observed, links from places (and objects) to
 //            their nearest control point (or keyframe); robust: the robots' own loop closures,
@@ -94,10 +94,26 @@ struct DeformationGraphOptions {
   /// the loop closures it holds out); the solve takes it where GNC kept just those, and analyzes
   /// its own otherwise. The same solve either way, to the bit.
   bool whole_graph_analysis_ahead = true;
+  /// The station's control points: of each robot's, the first in each voxel of this size (m; in
+  /// the robot's frame), with the rigidity edges of the others carried over to them
+  /// (coarserControlPoints); <= 0: every control point the robots send (Hydra's: one per 2.5 m
+  /// voxel). docs/DECISIONS.md: "Control points on a 5 m grid in the station".
+  double control_point_voxel = 5.0;
 };
 
 /// The control point node id of robot r's control point `index`.
 NodeId controlPointId(RobotId robot, uint64_t index);
+
+/// A robot's control points on a coarser voxel grid: of `points` (in the order the robot made
+/// them), the first in each voxel of `voxel` m; every edge of `edges` joins the kept points of its
+/// two ends' voxels instead (once; none within one voxel). A point later in a voxel never
+/// replaces its first, so the result only grows as the robot adds points.
+struct ControlPointGraph {
+  std::vector<ControlPoint> points;
+  std::vector<ControlPointEdge> edges;
+};
+ControlPointGraph coarserControlPoints(const std::vector<ControlPoint>& points,
+                                       const std::vector<ControlPointEdge>& edges, double voxel);
 
 struct DeformationGraph {
   PoseGraph graph;                              ///< every node and factor
