@@ -1,7 +1,8 @@
 // The station at team scale (issue 22): for each run folder of `run` (metrics.json, timing.csv),
 // the final graph's size, the backend's time per round (median, max while the robots mapped; the
 // last round, from scratch on the final state, apart) and per stage (the last
-// round's, and each stage's share of all rounds), the frontend's time per update, the peak memory
+// round's, and each stage's share of all rounds; and so for the time in its pose-graph solves,
+// their factorizations and analyses), the frontend's time per update, the peak memory
 // and the accuracy; and a plot of every round's backend time against the deformation graph's
 // poses, one colour per team; then which of issue 22's targets the teams that have one meet (a
 // team known by the dataset in its run's inputs.json: office-3 seed 1, 10 robots at scale 2, 20
@@ -29,6 +30,7 @@ struct Round {
   double ms = 0, poses = 0, factors = 0, nodes = 0;
   std::vector<double> stages_ms;  // alignment, build, gnc, whole graph, graph, rooms
   bool from_scratch = false;      // the last round, on the final state
+  std::vector<double> solver_ms;  // the solves, their factorizations, analyses (if recorded)
 };
 
 struct Team {
@@ -76,6 +78,8 @@ bool readTeam(const std::string& label, const std::string& dir, Team& team, std:
       r.factors = std::stod(cells[10]);
       for (size_t k = 11; k < 17; ++k) r.stages_ms.push_back(std::stod(cells[k]));
       r.from_scratch = cells.size() >= 18 && cells[17] == "1";
+      for (size_t k = 20; k < 23 && cells.size() >= 23; ++k)
+        r.solver_ms.push_back(std::stod(cells[k]));
       team.rounds.push_back(r);
     }
   }
@@ -155,6 +159,32 @@ int main(int argc, char** argv) {
     for (size_t k = 0; k < kStages.size(); ++k)
       std::printf(" %.2f (%.0f %%) |", t.rounds.back().stages_ms[k] / 1e3,
                   all > 0 ? 100.0 * total[k] / all : 0.0);
+    std::printf("\n");
+  }
+  // The solves within those stages (timing.csv's solve_ms, factorization_ms, analysis_ms; runs of
+  // older builds lack them).
+  std::printf(
+      "\nThe rounds' pose-graph solves: the last round's in s, and (in brackets) the share of all "
+      "rounds' time\n\n| team | Levenberg-Marquardt | of it factorizations | analyses |\n| --- | "
+      "--- | --- | --- |\n");
+  for (const Team& t : teams) {
+    std::vector<double> total(3, 0.0);
+    double all = 0.0;
+    bool recorded = true;
+    for (const Round& r : t.rounds) {
+      recorded = recorded && r.solver_ms.size() == 3;
+      for (size_t k = 0; k < r.solver_ms.size(); ++k) total[k] += r.solver_ms[k];
+      all += r.ms;
+    }
+    std::printf("| %s |", t.label.c_str());
+    for (size_t k = 0; k < 3; ++k) {
+      if (recorded) {
+        std::printf(" %.2f (%.0f %%) |", t.rounds.back().solver_ms[k] / 1e3,
+                    all > 0 ? 100.0 * total[k] / all : 0.0);
+      } else {
+        std::printf(" - |");
+      }
+    }
     std::printf("\n");
   }
   // Issue 22's targets, for the teams that have one (by the dataset in the run's inputs.json):
