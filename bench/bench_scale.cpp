@@ -148,45 +148,36 @@ int main(int argc, char** argv) {
   std::printf("\n| --- |");
   for (size_t k = 0; k < kStages.size(); ++k) std::printf(" --- |");
   std::printf("\n");
-  for (const Team& t : teams) {
-    std::vector<double> total(kStages.size(), 0.0);
-    double all = 0.0;
-    for (const Round& r : t.rounds) {
-      for (size_t k = 0; k < kStages.size(); ++k) total[k] += r.stages_ms[k];
-      all += r.ms;
-    }
-    std::printf("| %s |", t.label.c_str());
-    for (size_t k = 0; k < kStages.size(); ++k)
-      std::printf(" %.2f (%.0f %%) |", t.rounds.back().stages_ms[k] / 1e3,
-                  all > 0 ? 100.0 * total[k] / all : 0.0);
-    std::printf("\n");
-  }
-  // The solves within those stages (timing.csv's solve_ms, factorization_ms, analysis_ms; runs of
-  // older builds lack them).
-  std::printf(
-      "\nThe rounds' pose-graph solves: the last round's in s, and (in brackets) the share of all "
-      "rounds' time\n\n| team | Levenberg-Marquardt | of it factorizations | analyses |\n| --- | "
-      "--- | --- | --- |\n");
-  for (const Team& t : teams) {
-    std::vector<double> total(3, 0.0);
+  // A team's row: per column of `of` (a round's times in ms, `columns` of them; a round that
+  // lacks them, from an older build: "-"), the last round's in s and its share of all rounds'.
+  const auto shareRow = [](const Team& t, size_t columns, const std::vector<double> Round::*of) {
+    std::vector<double> total(columns, 0.0);
     double all = 0.0;
     bool recorded = true;
     for (const Round& r : t.rounds) {
-      recorded = recorded && r.solver_ms.size() == 3;
-      for (size_t k = 0; k < r.solver_ms.size(); ++k) total[k] += r.solver_ms[k];
+      recorded = recorded && (r.*of).size() == columns;
+      for (size_t k = 0; k < (r.*of).size() && k < columns; ++k) total[k] += (r.*of)[k];
       all += r.ms;
     }
     std::printf("| %s |", t.label.c_str());
-    for (size_t k = 0; k < 3; ++k) {
+    for (size_t k = 0; k < columns; ++k) {
       if (recorded) {
-        std::printf(" %.2f (%.0f %%) |", t.rounds.back().solver_ms[k] / 1e3,
+        std::printf(" %.2f (%.0f %%) |", (t.rounds.back().*of)[k] / 1e3,
                     all > 0 ? 100.0 * total[k] / all : 0.0);
       } else {
         std::printf(" - |");
       }
     }
     std::printf("\n");
-  }
+  };
+  for (const Team& t : teams) shareRow(t, kStages.size(), &Round::stages_ms);
+  // The solves within those stages (timing.csv's solve_ms, factorization_ms, analysis_ms; runs of
+  // older builds lack them).
+  std::printf(
+      "\nThe rounds' pose-graph solves: the last round's in s, and (in brackets) the share of all "
+      "rounds' time\n\n| team | Levenberg-Marquardt | of it factorizations | analyses |\n| --- | "
+      "--- | --- | --- |\n");
+  for (const Team& t : teams) shareRow(t, 3, &Round::solver_ms);
   // Issue 22's targets, for the teams that have one (by the dataset in the run's inputs.json):
   // every round, the last one from scratch included.
   std::printf("\nIssue 22's targets\n\n| target | measured | met |\n| --- | --- | --- |\n");
