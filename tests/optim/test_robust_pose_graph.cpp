@@ -252,6 +252,99 @@ TEST(RobustPoseGraph, LeavesAreSolvedAfterTheRest) {
   }
 }
 
+// Held-out and known-inlier flags stay with their edges when leaves sit between them: grid1000
+// with a leaf edge before every tenth edge decides every edge as the plain graph does with the
+// same flags (every third true inlier doubted, the rest as a batch decided them).
+TEST(RobustPoseGraph, FlagsStayWithTheirEdgesAmongLeaves) {
+  const LabelledGraph g = readLabelledGrid("grid1000_10p_outliers");
+  const NodeId anchor(0, 0);
+  const RobustPgoResult batch =
+      optimizePoseGraph(g.graph, odometryInitialization(g.graph, anchor), anchor);
+  size_t held = 0;
+  const RobustPgoOptions decided =
+      asDecided(g, batch, [&](size_t k) { return g.inliers.count(k) && held++ % 3 == 0; });
+  const RobustPgoResult plain = optimizePoseGraph(g.graph, batch.poses, anchor, decided);
+  ASSERT_FALSE(plain.held_out_poses.empty());  // doubted ones fit, and were re-admitted
+
+  std::map<NodeId, int> degree;
+  for (const PoseGraphEdge& e : g.graph.edges) {
+    ++degree[e.from];
+    ++degree[e.to];
+  }
+  PoseGraph with;
+  RobustPgoOptions shifted;
+  std::vector<size_t> at;  // per edge of the plain graph, its index in `with`
+  auto initial = batch.poses;
+  for (size_t k = 0; k < g.graph.edges.size(); ++k) {
+    const PoseGraphEdge& e = g.graph.edges[k];
+    if (k % 10 == 0 && degree[e.from] > 1) {
+      PoseGraphEdge leaf;
+      leaf.from = e.from;
+      leaf.to = NodeId('L', k);
+      leaf.T_from_to = Eigen::Isometry3d::Identity();
+      leaf.T_from_to.translation() = Eigen::Vector3d(0.0, 0.0, 1.0);
+      with.edges.push_back(leaf);
+      shifted.held_out.push_back(false);
+      shifted.known_inlier.push_back(false);
+      initial[leaf.to] = Eigen::Isometry3d::Identity();
+    }
+    at.push_back(with.edges.size());
+    with.edges.push_back(e);
+    shifted.held_out.push_back(decided.held_out[k]);
+    shifted.known_inlier.push_back(decided.known_inlier[k]);
+  }
+  ASSERT_GT(with.edges.size(), g.graph.edges.size() + 100);
+  const RobustPgoResult result = optimizePoseGraph(with, initial, anchor, shifted);
+  ASSERT_EQ(result.edge_inlier.size(), with.edges.size());
+  for (size_t k = 0; k < g.graph.edges.size(); ++k)
+    EXPECT_EQ(result.edge_inlier[at[k]], plain.edge_inlier[k]) << "edge " << k;
+  EXPECT_EQ(result.known_contradicted, plain.known_contradicted);
+  EXPECT_FALSE(result.held_out_poses.empty());
+  for (const auto& [id, pose] : plain.poses)
+    EXPECT_LT((result.poses.at(id).translation() - pose.translation()).norm(), 1e-6) << id.str();
+}
+
+// In a solve that is not robust, held-out factors are no part of it: grid1000 with every fifth
+// loop closure held out, and a pose tied by odometry and by a held-out loop closure (a leaf
+// without it), solves as the graph without those edges does, the held-out ones rejected.
+TEST(RobustPoseGraph, HeldOutFactorsAreNoPartOfASolveThatIsNotRobust) {
+  const LabelledGraph g = readLabelledGrid("grid1000_10p_outliers");
+  const NodeId anchor(0, 0);
+  PoseGraph with = g.graph;
+  auto initial = odometryInitialization(g.graph, anchor);
+  PoseGraphEdge tie;
+  tie.from = NodeId(0, 10);
+  tie.to = NodeId('L', 0);
+  tie.T_from_to.translation() = Eigen::Vector3d(0.0, 0.0, 1.0);
+  PoseGraphEdge closure = tie;
+  closure.from = NodeId(0, 500);
+  closure.kind = PoseGraphEdge::Kind::kLoopClosure;
+  with.edges.push_back(tie);
+  with.edges.push_back(closure);
+  initial[tie.to] = Eigen::Isometry3d::Identity();
+  RobustPgoOptions options;
+  options.robust = false;
+  options.held_out.assign(with.edges.size(), false);
+  PoseGraph without;
+  size_t closures = 0;
+  for (size_t k = 0; k < with.edges.size(); ++k) {
+    const bool closes = with.edges[k].kind == PoseGraphEdge::Kind::kLoopClosure;
+    options.held_out[k] = closes && (closures++ % 5 == 0 || k + 1 == with.edges.size());
+    if (!options.held_out[k]) without.edges.push_back(with.edges[k]);
+  }
+  ASSERT_GT(with.edges.size(), without.edges.size() + 50);
+  RobustPgoOptions plain;
+  plain.robust = false;
+  const RobustPgoResult expected = optimizePoseGraph(without, initial, anchor, plain);
+  const RobustPgoResult result = optimizePoseGraph(with, initial, anchor, options);
+  for (size_t k = 0; k < with.edges.size(); ++k)
+    EXPECT_EQ(result.edge_inlier[k], !options.held_out[k]) << "edge " << k;
+  for (const auto& [id, pose] : expected.poses)
+    EXPECT_LT((result.poses.at(id).matrix() - pose.matrix()).norm(), 1e-9) << id.str();
+  const Eigen::Isometry3d placed = result.poses.at(tie.from) * tie.T_from_to;
+  EXPECT_LT((result.poses.at(tie.to).matrix() - placed.matrix()).norm(), 1e-9);
+}
+
 // The bar on real labelled data: precision >= 0.99 and recall >= 0.98.
 TEST(RobustPoseGraph, Grid1000With10PercentOutliers) {
   const Classification c = classifyGrid("grid1000_10p_outliers");

@@ -19,14 +19,16 @@ namespace {
 // earlier solution (or that it lacks), and those within local_hops edges of them; none without
 // an earlier solution.
 std::optional<std::set<NodeId>> changedNodes(const PoseGraph& whole,
+                                             const std::vector<bool>& left_out,
                                              const std::map<NodeId, Eigen::Isometry3d>& start,
                                              const DeformationWarmStart& warm,
                                              const DeformationGraphOptions& options) {
   if (warm.last_whole.empty()) return std::nullopt;
   std::set<NodeId> changed;
   std::unordered_map<NodeId, std::vector<NodeId>> neighbours;
-  for (const PoseGraphEdge& e : whole.edges) {
-    if (!start.count(e.from) || !start.count(e.to)) continue;
+  for (size_t k = 0; k < whole.edges.size(); ++k) {
+    const PoseGraphEdge& e = whole.edges[k];
+    if (left_out[k] || !start.count(e.from) || !start.count(e.to)) continue;
     neighbours[e.from].push_back(e.to);
     neighbours[e.to].push_back(e.from);
     const auto from_then = warm.last_whole.find(e.from), to_then = warm.last_whole.find(e.to);
@@ -73,19 +75,18 @@ size_t admitFitting(const PoseGraph& graph, const std::map<NodeId, Eigen::Isomet
   return fit.size();
 }
 
-// The whole graph with the robust factors (from, to) `kept` says true of, and every other factor.
-PoseGraph wholeGraph(const DeformationGraph& graph,
-                     const std::map<std::pair<NodeId, NodeId>, bool>& kept) {
-  PoseGraph whole;
-  whole.edges.reserve(graph.graph.edges.size());
-  for (const PoseGraphEdge& e : graph.graph.edges) {
-    if (e.kind == PoseGraphEdge::Kind::kLoopClosure) {
-      const auto it = kept.find({e.from, e.to});
-      if (it == kept.end() || !it->second) continue;
-    }
-    whole.edges.push_back(e);
+// Per edge of the whole graph: the robust factors (from, to) `kept` does not say true of, which
+// the whole-graph solve leaves out (held out of a solve that is not robust: no part of it).
+std::vector<bool> leftOut(const DeformationGraph& graph,
+                          const std::map<std::pair<NodeId, NodeId>, bool>& kept) {
+  std::vector<bool> out(graph.graph.edges.size(), false);
+  for (size_t k = 0; k < out.size(); ++k) {
+    const PoseGraphEdge& e = graph.graph.edges[k];
+    if (e.kind != PoseGraphEdge::Kind::kLoopClosure) continue;
+    const auto it = kept.find({e.from, e.to});
+    out[k] = it == kept.end() || !it->second;
   }
-  return whole;
+  return out;
 }
 
 // The whole-graph solve's options: least squares over what GNC kept, sparse Cholesky.
@@ -118,7 +119,8 @@ void analyzeWholeGraphAhead(const DeformationGraph& graph, const PoseGraph& robu
   analyze.solver.linearization_threads = 1;
   analyze.solver.analyses = ahead;
   analyze.solver.keep_analysis = true;
-  optimizePoseGraph(wholeGraph(graph, expected), nodes, graph.anchor, analyze);
+  analyze.held_out = leftOut(graph, expected);
+  optimizePoseGraph(graph.graph, nodes, graph.anchor, analyze);
 }
 
 }  // namespace
@@ -215,7 +217,8 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
   // The whole graph with the robust factors GNC kept, from the skeleton's solution: control
   // points start where the keyframe that observed them moved them.
   const auto whole_start = std::chrono::steady_clock::now();
-  const PoseGraph whole = wholeGraph(graph, result.robust_inlier);
+  const PoseGraph& whole = graph.graph;
+  const std::vector<bool> left_out = leftOut(graph, result.robust_inlier);
   std::map<NodeId, Eigen::Isometry3d> initial = result.poses;
   for (const auto& [id, pose] : graph.initial) {
     if (initial.count(id)) continue;
@@ -242,12 +245,14 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
     }
   }
   RobustPgoOptions plain = wholeGraphSolver(options);
-  const std::optional<std::set<NodeId>> changed = options.local_whole_graph && warm != nullptr
-                                                      ? changedNodes(whole, initial, *warm, options)
-                                                      : std::nullopt;
+  const std::optional<std::set<NodeId>> changed =
+      options.local_whole_graph && warm != nullptr
+          ? changedNodes(whole, left_out, initial, *warm, options)
+          : std::nullopt;
   if (!changed || changed->size() > options.local_max_share * initial.size()) {
     const bool prepared = ahead != nullptr && ahead->holds();
     plain.solver.analyses = ahead;
+    plain.held_out = left_out;
     const RobustPgoResult solved = optimizePoseGraph(whole, initial, graph.anchor, plain);
     result.solver_time += solved.solver_time;
     result.whole_graph_analyzed_ahead = prepared && !ahead->holds();
@@ -258,8 +263,9 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
     result.poses = initial;
     PoseGraph local;
     std::map<NodeId, Eigen::Isometry3d> local_initial;
-    for (const PoseGraphEdge& e : whole.edges) {
-      if (!changed->count(e.from) && !changed->count(e.to)) continue;
+    for (size_t k = 0; k < whole.edges.size(); ++k) {
+      const PoseGraphEdge& e = whole.edges[k];
+      if (left_out[k] || (!changed->count(e.from) && !changed->count(e.to))) continue;
       local.edges.push_back(e);
       for (const NodeId id : {e.from, e.to}) {
         local_initial[id] = initial.at(id);

@@ -28,23 +28,29 @@ SolveSummary solveOverInliers(const PoseGraph& graph, const std::vector<bool>& i
   return summary;
 }
 
+// Per edge of the graph a solve sees: the factors GNC holds out and those known to be inliers
+// (RobustPgoOptions::held_out and known_inlier; shorter: the rest are neither).
+struct EdgeFlags {
+  std::vector<bool> held_out, known_inlier;
+  bool heldOut(size_t k) const { return k < held_out.size() && held_out[k]; }
+  bool known(size_t k) const { return k < known_inlier.size() && known_inlier[k]; }
+};
+
 // A problem made of some of a graph's edges (`kept`, by index) and `extra` ones after them: its
-// graph, and the options with each kept edge's held-out and known-inlier flags.
+// graph, and each kept edge's flags.
 struct SubProblem {
   PoseGraph graph;
-  RobustPgoOptions options;
+  EdgeFlags flags;
 };
-SubProblem subProblem(const PoseGraph& graph, const RobustPgoOptions& options,
+SubProblem subProblem(const PoseGraph& graph, const EdgeFlags& flags,
                       const std::vector<size_t>& kept,
                       const std::vector<PoseGraphEdge>& extra = {}) {
-  SubProblem sub{{}, options};
-  sub.options.held_out.clear();
-  sub.options.known_inlier.clear();
+  SubProblem sub;
   sub.graph.edges.reserve(kept.size() + extra.size());
   for (const size_t k : kept) {
     sub.graph.edges.push_back(graph.edges[k]);
-    sub.options.held_out.push_back(k < options.held_out.size() && options.held_out[k]);
-    sub.options.known_inlier.push_back(k < options.known_inlier.size() && options.known_inlier[k]);
+    sub.flags.held_out.push_back(flags.heldOut(k));
+    sub.flags.known_inlier.push_back(flags.known(k));
   }
   sub.graph.edges.insert(sub.graph.edges.end(), extra.begin(), extra.end());
   return sub;
@@ -63,10 +69,11 @@ void verdictsOfGraph(RobustPgoResult& result, const std::vector<size_t>& kept, s
   result.edge_weight = std::move(edge_weight);
 }
 
-// The solve of optimizePoseGraph over a graph without leaves (and without chains, when reduced).
+// The solve of optimizePoseGraph without leaves (their poses absent from `initial`, which leaves
+// their edges out) and without chains, when reduced; `flags` per edge of `graph`.
 RobustPgoResult optimizeReduced(const PoseGraph& graph,
                                 const std::map<NodeId, Eigen::Isometry3d>& initial, NodeId anchor,
-                                const RobustPgoOptions& options) {
+                                const RobustPgoOptions& options, const EdgeFlags& flags) {
   const auto start = std::chrono::steady_clock::now();
   RobustPgoResult result;
   PoseGraphProblem problem(graph, initial, anchor, options.solver);
@@ -77,9 +84,9 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
   for (size_t k = 0; k < graph.edges.size(); ++k) {
     if (graph.edges[k].kind != PoseGraphEdge::Kind::kLoopClosure || !problem.edgeIncluded(k))
       continue;
-    if (k < options.held_out.size() && options.held_out[k]) {
+    if (flags.heldOut(k)) {
       held_out.push_back(k);
-    } else if (options.robust && k < options.known_inlier.size() && options.known_inlier[k]) {
+    } else if (options.robust && flags.known(k)) {
       known.push_back(k);
     } else {
       robust_edges.push_back(k);
@@ -185,8 +192,9 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
   const auto polish = [&] {
     for (int round = 0; round < 10; ++round) {
       leaveOutRejected();  // those re-admitted last round back in
-      const size_t inlier_edges =
-          std::count(result.edge_inlier.begin(), result.edge_inlier.end(), true);
+      size_t inlier_edges = 0;
+      for (size_t k = 0; k < graph.edges.size(); ++k)
+        inlier_edges += result.edge_inlier[k] && problem.edgeIncluded(k) ? 1 : 0;
       if (round > 0 && !options.earlier_held_out.empty()) {
         // After a re-admission: from the held-out solution moved as the earlier solve's
         // re-admission moved its own, H_now H_then^-1 F_then, when that fits the inliers better
@@ -252,6 +260,7 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
     result.poses = problem.poses();
     result.edge_weight = edge_weights;
     result.edge_inlier.assign(graph.edges.size(), true);
+    for (const size_t k : held_out) result.edge_inlier[k] = false;
   } else {
     gnc();
     // With nothing undecided GNC did not solve: the polish is the solve.
@@ -291,27 +300,29 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
   return result;
 }
 
-// The solve of optimizePoseGraph over a graph without leaves: its chains (pose_graph_chains.h)
-// reduced to one edge each, their interiors placed after, and then one solve of the whole graph
-// over the inliers from there.
+// The solve of optimizePoseGraph without leaves (as optimizeReduced): its chains
+// (pose_graph_chains.h) reduced to one edge each, their interiors placed after, and then one solve
+// of the whole graph over the inliers from there.
 RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
                                       const std::map<NodeId, Eigen::Isometry3d>& initial,
-                                      NodeId anchor, const RobustPgoOptions& options) {
+                                      NodeId anchor, const RobustPgoOptions& options,
+                                      const EdgeFlags& flags) {
   if (!options.reduce_chains || !options.robust)
-    return optimizeReduced(graph, initial, anchor, options);
+    return optimizeReduced(graph, initial, anchor, options, flags);
   const auto start = std::chrono::steady_clock::now();
   const ChainReduction reduction = findChains(graph, initial, anchor, options.constant);
   size_t interior = 0;
   for (const PoseGraphChain& chain : reduction.chains) interior += chain.interior.size();
   if (interior == 0 || interior < options.chain_min_share * initial.size())
-    return optimizeReduced(graph, initial, anchor, options);
+    return optimizeReduced(graph, initial, anchor, options, flags);
 
-  const SubProblem reduced = subProblem(graph, options, reduction.kept_edges, reduction.composed);
+  const SubProblem reduced = subProblem(graph, flags, reduction.kept_edges, reduction.composed);
   std::map<NodeId, Eigen::Isometry3d> reduced_initial = initial;
   for (const PoseGraphChain& chain : reduction.chains) {
     for (const NodeId id : chain.interior) reduced_initial.erase(id);
   }
-  RobustPgoResult result = optimizeReduced(reduced.graph, reduced_initial, anchor, reduced.options);
+  RobustPgoResult result =
+      optimizeReduced(reduced.graph, reduced_initial, anchor, options, reduced.flags);
   placeChainInteriors(graph, reduction, result.poses);
   if (!result.held_out_poses.empty()) placeChainInteriors(graph, reduction, result.held_out_poses);
   verdictsOfGraph(result, reduction.kept_edges, graph.edges.size());
@@ -364,37 +375,45 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
                                   const RobustPgoOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   // Leaves: poses with one edge, a known inlier (not a loop closure), other than the anchor and
-  // the poses held constant.
+  // the poses held constant. The held-out factors of a solve that is not robust count for nothing.
+  const EdgeFlags flags{options.held_out, options.known_inlier};
   std::unordered_map<NodeId, int> degree;
-  const auto included = [&](const PoseGraphEdge& e) {
-    return e.from != e.to && initial.count(e.from) && initial.count(e.to);
+  const auto included = [&](size_t k) {
+    const PoseGraphEdge& e = graph.edges[k];
+    return e.from != e.to && initial.count(e.from) && initial.count(e.to) &&
+           (options.robust || !flags.heldOut(k));
   };
-  for (const PoseGraphEdge& e : graph.edges) {
-    if (!included(e)) continue;
-    ++degree[e.from];
-    ++degree[e.to];
+  for (size_t k = 0; k < graph.edges.size(); ++k) {
+    if (!included(k)) continue;
+    ++degree[graph.edges[k].from];
+    ++degree[graph.edges[k].to];
   }
   const auto isLeaf = [&](NodeId id) {
     return id != anchor && degree[id] == 1 && options.constant.count(id) == 0;
   };
-  std::vector<size_t> kept_edges, leaf_edges;
+  std::vector<size_t> leaf_edges;
   for (size_t k = 0; k < graph.edges.size(); ++k) {
     const PoseGraphEdge& e = graph.edges[k];
-    const bool leaf = included(e) && e.kind != PoseGraphEdge::Kind::kLoopClosure &&
-                      isLeaf(e.from) != isLeaf(e.to);
-    (leaf ? leaf_edges : kept_edges).push_back(k);
+    if (included(k) && e.kind != PoseGraphEdge::Kind::kLoopClosure &&
+        isLeaf(e.from) != isLeaf(e.to))
+      leaf_edges.push_back(k);
   }
-  if (leaf_edges.empty()) return optimizeWithoutLeaves(graph, initial, anchor, options);
+  if (leaf_edges.empty()) return optimizeWithoutLeaves(graph, initial, anchor, options, flags);
 
-  const SubProblem reduced = subProblem(graph, options, kept_edges);
+  // Without the leaves' poses the problem leaves their edges out: no copy of the graph.
   std::map<NodeId, Eigen::Isometry3d> reduced_initial = initial;
   for (const size_t k : leaf_edges) {
     const PoseGraphEdge& e = graph.edges[k];
     reduced_initial.erase(isLeaf(e.to) ? e.to : e.from);
   }
-  RobustPgoResult result =
-      optimizeWithoutLeaves(reduced.graph, reduced_initial, anchor, reduced.options);
-  verdictsOfGraph(result, kept_edges, graph.edges.size());
+  RobustPgoResult result = optimizeWithoutLeaves(graph, reduced_initial, anchor, options, flags);
+  if (!options.robust) {  // held out, and so no part of it, also where a leaf's edge left them out
+    for (size_t k = 0; k < graph.edges.size(); ++k) {
+      if (!flags.heldOut(k)) continue;
+      result.edge_inlier[k] = false;
+      result.edge_weight[k] = 0.0;
+    }
+  }
   // Each leaf where its edge puts it: that edge's residual is zero, the optimum's exactly.
   for (const size_t k : leaf_edges) {
     const PoseGraphEdge& e = graph.edges[k];

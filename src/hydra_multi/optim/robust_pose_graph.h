@@ -48,7 +48,9 @@ struct RobustPgoOptions {
   /// Per graph edge (empty: none): robust factors GNC holds out, at weight 0 throughout and out of
   /// the sparse factor's pattern (PoseGraphProblem::leaveOut); they count as rejected, and
   /// readmit_consistent takes back those that fit the result. For loop closures an earlier, more
-  /// global test already doubts (the alignment's consensus, initial_alignment.h).
+  /// global test already doubts (the alignment's consensus, initial_alignment.h). In a solve that
+  /// is not robust nothing takes them back: they are no part of it, as if absent from the graph
+  /// (a solve over part of a large graph without a copy of the rest), and count as rejected.
   std::vector<bool> held_out;
   /// Per graph edge (empty: none): robust factors known to be inliers (an earlier solve's verdict),
   /// at weight 1 while GNC decides the others. One whose squared residual at GNC's result exceeds
