@@ -260,7 +260,6 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
     result.poses = problem.poses();
     result.edge_weight = edge_weights;
     result.edge_inlier.assign(graph.edges.size(), true);
-    for (const size_t k : held_out) result.edge_inlier[k] = false;
   } else {
     gnc();
     // With nothing undecided GNC did not solve: the polish is the solve.
@@ -398,16 +397,16 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
         isLeaf(e.from) != isLeaf(e.to))
       leaf_edges.push_back(k);
   }
-  if (leaf_edges.empty()) return optimizeWithoutLeaves(graph, initial, anchor, options, flags);
-
   // Without the leaves' poses the problem leaves their edges out: no copy of the graph.
-  std::map<NodeId, Eigen::Isometry3d> reduced_initial = initial;
+  std::map<NodeId, Eigen::Isometry3d> reduced_initial;
+  if (!leaf_edges.empty()) reduced_initial = initial;
   for (const size_t k : leaf_edges) {
     const PoseGraphEdge& e = graph.edges[k];
     reduced_initial.erase(isLeaf(e.to) ? e.to : e.from);
   }
-  RobustPgoResult result = optimizeWithoutLeaves(graph, reduced_initial, anchor, options, flags);
-  if (!options.robust) {  // held out, and so no part of it, also where a leaf's edge left them out
+  RobustPgoResult result = optimizeWithoutLeaves(
+      graph, leaf_edges.empty() ? initial : reduced_initial, anchor, options, flags);
+  if (!options.robust) {  // held out, and so no part of the solve: rejected
     for (size_t k = 0; k < graph.edges.size(); ++k) {
       if (!flags.heldOut(k)) continue;
       result.edge_inlier[k] = false;
