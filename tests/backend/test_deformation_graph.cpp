@@ -321,6 +321,41 @@ TEST(DeformationGraph, ObjectsNewToTheSolveStartAtTheirKeyframe) {
   EXPECT_LE(start, end * 1.01 + 1e-9) << lines.front();
 }
 
+// A solve that stops at the skeleton (the loop closures' solve of a round) needs no factor of the
+// whole graph: built for it, the graph holds the same skeleton, nodes and robust factors as the
+// whole one, no whole-graph factor, and the solve gives the same poses and verdicts to the bit.
+TEST(DeformationGraph, AGraphForTheSkeletonAloneSolvesAsTheWholeOne) {
+  DeformationGraphOptions skeleton;
+  skeleton.final_iterations = 0;
+  const auto s = objectsToMerge(skeleton, true);
+  const DeformationGraph whole =
+      buildDeformationGraph(s->frontend, s->inputs(), s->inter, s->merges, {});
+  const DeformationGraph alone =
+      buildDeformationGraph(s->frontend, s->inputs(), s->inter, s->merges, skeleton);
+  ASSERT_GT(whole.graph.edges.size(), whole.skeleton.edges.size());
+  EXPECT_TRUE(alone.graph.edges.empty());
+  EXPECT_TRUE(alone.graph.poses.empty());
+  ASSERT_EQ(alone.skeleton.edges.size(), whole.skeleton.edges.size());
+  for (size_t k = 0; k < whole.skeleton.edges.size(); ++k) {
+    const PoseGraphEdge &a = alone.skeleton.edges[k], &w = whole.skeleton.edges[k];
+    EXPECT_TRUE(a.from == w.from && a.to == w.to && a.kind == w.kind) << k;
+    EXPECT_TRUE(a.T_from_to.isApprox(w.T_from_to, 0.0) && a.information == w.information) << k;
+  }
+  EXPECT_EQ(alone.skeleton.poses.size(), whole.skeleton.poses.size());
+  EXPECT_EQ(alone.initial.size(), whole.initial.size());
+  EXPECT_EQ(alone.observed_by, whole.observed_by);
+  EXPECT_EQ(alone.anchor, whole.anchor);
+  EXPECT_EQ(alone.robust_factors, whole.robust_factors);
+  EXPECT_EQ(alone.inter_robot_factors, whole.inter_robot_factors);
+  EXPECT_EQ(alone.merge_factors, whole.merge_factors);
+  const DeformationResult from_whole = optimizeDeformationGraph(whole, skeleton);
+  const DeformationResult from_alone = optimizeDeformationGraph(alone, skeleton);
+  EXPECT_EQ(from_alone.robust_inlier, from_whole.robust_inlier);
+  ASSERT_EQ(from_alone.poses.size(), from_whole.poses.size());
+  for (const auto& [id, pose] : from_whole.poses)
+    EXPECT_TRUE(from_alone.poses.at(id).isApprox(pose, 0.0)) << id.str();
+}
+
 // Merges new in an incremental round that fit the solve's start are known inliers there
 // (DeformationWarmStart::admit_if_fitting): no solve without them, nothing to take back after it.
 // A wrong one stays held out and rejected. The verdicts are those of holding all of them out.

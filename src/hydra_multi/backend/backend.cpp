@@ -231,10 +231,10 @@ Backend::Proposals Backend::proposeOnLoopClosureSolve(
     const std::set<std::pair<NodeId, NodeId>>& held_out, BackendRoundReport& report) const {
   Proposals proposals;
   const auto start = std::chrono::steady_clock::now();
-  const DeformationGraph graph =
-      buildDeformationGraph(frontend, team.inputs, loop_closures, {}, options_.deformation);
   DeformationGraphOptions skeleton = options_.deformation;
   skeleton.final_iterations = 0;
+  const DeformationGraph graph =
+      buildDeformationGraph(frontend, team.inputs, loop_closures, {}, skeleton);
   std::map<NodeId, Eigen::Isometry3d> last_proposal, last_held_out;
   DeformationWarmStart warm = lastRound(graph, team, true, &last_proposal, &last_held_out);
   // This solve's own optimum; GNC and the first polish from the one without what it re-admitted,

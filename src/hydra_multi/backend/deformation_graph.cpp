@@ -79,6 +79,11 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
                                        const std::vector<PoseGraphEdge>& merges,
                                        const DeformationGraphOptions& options) {
   DeformationGraph dg;
+  // A solve that stops at the skeleton needs no factor of the whole graph.
+  const bool whole = !options.two_stage || options.final_iterations > 0;
+  const auto toWhole = [&dg, whole](const PoseGraphEdge& e) {
+    if (whole) dg.graph.edges.push_back(e);
+  };
   std::vector<NodeId> first_keyframes;
   std::set<NodeId> merged;  // objects in merge candidates become nodes too
   std::set<NodeId> control_points;
@@ -96,7 +101,7 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
     if (input.control_point_edges != nullptr) control_most += input.control_point_edges->size();
     skeleton_most += frontend.nodesOfRobot(input.robot, Layer::kPlaces).size();
   }
-  dg.graph.edges.reserve(skeleton_most + control_most);
+  if (whole) dg.graph.edges.reserve(skeleton_most + control_most);
   dg.skeleton.edges.reserve(skeleton_most);
   for (const RobotDeformationInput& input : robots) {
     const Eigen::Isometry3d& T = input.T_global_robot;
@@ -138,7 +143,7 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
           e.information.block<3, 3>(3, 3) =
               Eigen::Matrix3d::Identity() / options.odometry_rotation_variance;
         }
-        dg.graph.edges.push_back(e);
+        toWhole(e);
         dg.skeleton.edges.push_back(e);
         if (closure) ++dg.robust_factors;
       }
@@ -154,20 +159,21 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
         const NodeId id = controlPointId(input.robot, cp.id);
         dg.initial[id] = T * at(cp.position);
         control_points.insert(id);
-        cp_positions.push_back(cp.position);
-        cp_times.push_back(cp.time_ns);
-        cp_ids.push_back(id);
-        cp_by_index[cp.id] = &cp;
+        if (whole) {  // for the whole graph's ties
+          cp_positions.push_back(cp.position);
+          cp_times.push_back(cp.time_ns);
+          cp_ids.push_back(id);
+          cp_by_index[cp.id] = &cp;
+        }
         const auto keyframe = local.find(cp.keyframe);
         if (keyframe != local.end()) {
           dg.observed_by[id] = cp.keyframe;
-          dg.graph.edges.push_back(edge(cp.keyframe, id,
-                                        keyframe->second.inverse() * at(cp.position),
-                                        options.mesh_variance));
+          toWhole(edge(cp.keyframe, id, keyframe->second.inverse() * at(cp.position),
+                       options.mesh_variance));
         }
       }
     }
-    if (input.control_point_edges != nullptr) {
+    if (whole && input.control_point_edges != nullptr) {
       for (const ControlPointEdge& e : *input.control_point_edges) {
         const auto a = cp_by_index.find(e.from), b = cp_by_index.find(e.to);
         if (a == cp_by_index.end() || b == cp_by_index.end()) continue;
@@ -198,23 +204,24 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
       const PoseGraphEdge to_keyframe =
           edge(kf_ids[k], place, local[kf_ids[k]].inverse() * at(p), options.mesh_variance);
       dg.skeleton.edges.push_back(to_keyframe);
+      if (!whole) continue;
       const auto cp = near_cp.nearest(p, made);
       if (!cp.empty() && cp.front().distance <= options.place_link_radius) {
-        dg.graph.edges.push_back(edge(cp_ids[cp.front().index], place,
-                                      at(p - cp_positions[cp.front().index]),
-                                      options.mesh_variance));
+        toWhole(edge(cp_ids[cp.front().index], place, at(p - cp_positions[cp.front().index]),
+                     options.mesh_variance));
       } else {
-        dg.graph.edges.push_back(to_keyframe);
+        toWhole(to_keyframe);
       }
     }
   }
   if (first_keyframes.empty()) return dg;
   dg.anchor = first_keyframes.front();
   for (size_t r = 1; r < first_keyframes.size(); ++r) {
-    dg.graph.edges.push_back(edge(dg.anchor, first_keyframes[r],
-                                  dg.initial[dg.anchor].inverse() * dg.initial[first_keyframes[r]],
-                                  kGaugeVariance));
-    dg.skeleton.edges.push_back(dg.graph.edges.back());
+    const PoseGraphEdge gauge =
+        edge(dg.anchor, first_keyframes[r],
+             dg.initial[dg.anchor].inverse() * dg.initial[first_keyframes[r]], kGaugeVariance);
+    toWhole(gauge);
+    dg.skeleton.edges.push_back(gauge);
   }
   for (const auto* list : {&inter_robot, &merges}) {
     for (PoseGraphEdge e : *list) {
@@ -223,14 +230,14 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
       if (!options.use_sent_information && list == &inter_robot)
         e.information =
             informationFromVariances(options.loop_closure_variance, options.loop_closure_variance);
-      dg.graph.edges.push_back(e);
+      toWhole(e);
       dg.skeleton.edges.push_back(e);
       ++dg.robust_factors;
       if (list == &inter_robot) ++dg.inter_robot_factors;
       if (list == &merges) dg.merge_factors.insert({e.from, e.to});
     }
   }
-  dg.graph.poses = dg.initial;
+  if (whole) dg.graph.poses = dg.initial;
   for (const auto& [id, pose] : dg.initial) {
     if (!control_points.count(id)) dg.skeleton.poses[id] = pose;
   }

@@ -126,7 +126,9 @@ struct DeformationGraph {
 };
 
 /// Assembles the deformation graph of the aligned robots. `frontend` holds every robot's nodes in
-/// its own frame; `inter_robot` and `merges` are robust factors between station ids.
+/// its own frame; `inter_robot` and `merges` are robust factors between station ids. For a solve
+/// that stops at the skeleton (two_stage, final_iterations 0) `graph` is left empty: `initial`
+/// and `observed_by` still hold every node.
 DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
                                        const std::vector<RobotDeformationInput>& robots,
                                        const std::vector<PoseGraphEdge>& inter_robot,

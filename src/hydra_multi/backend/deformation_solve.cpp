@@ -217,8 +217,6 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
   // The whole graph with the robust factors GNC kept, from the skeleton's solution: control
   // points start where the keyframe that observed them moved them.
   const auto whole_start = std::chrono::steady_clock::now();
-  const PoseGraph& whole = graph.graph;
-  const std::vector<bool> left_out = leftOut(graph, result.robust_inlier);
   std::map<NodeId, Eigen::Isometry3d> initial = result.poses;
   for (const auto& [id, pose] : graph.initial) {
     if (initial.count(id)) continue;
@@ -231,6 +229,8 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
   }
   result.poses = initial;
   if (options.final_iterations == 0) return result;
+  const PoseGraph& whole = graph.graph;
+  const std::vector<bool> left_out = leftOut(graph, result.robust_inlier);
   if (warm != nullptr) {
     // From the earlier whole solution, moved as the skeleton (or the keyframe) moved since.
     for (auto& [id, pose] : initial) {
