@@ -99,17 +99,21 @@ struct SparseLevenbergMarquardt::Impl {
   size_t variables = 0;
   // H is stored permuted, A = P H P^T with P the fill-reducing ordering (postordered), lower
   // triangle, so that CHOLMOD factorizes A in its natural order without permuting or transposing
-  // it (upper triangle where the factor is simplicial, CHOLMOD's fastest form there). `slot`: per
-  // block of H (block row <= block column), per entry (column-major, 6 c + r; a diagonal block's
-  // entries r <= c only), its index in A's values.
-  std::vector<long> slot;            // 36 per block
+  // it (upper triangle where the factor is simplicial, CHOLMOD's fastest form there). A block of H
+  // (block row <= block column) lies in A as six runs of six values (fewer on a diagonal block),
+  // one per column of A's block: `column`, per block, each run's index in A's values less its
+  // first row; `transposed`, per block, whether A holds it transposed. H's entry (r, c) of the
+  // block (a diagonal block's r <= c only) is A's value column[c] + r, or column[r] + c where
+  // transposed.
+  std::vector<long> column;  // 6 per block
+  std::vector<char> transposed;
   std::vector<long> permuted;        // scalar index of H -> that of A (kNone: eliminated)
   std::vector<long> diagonal_block;  // per variable
   // Variables eliminated before CHOLMOD factorizes the rest (A): one by one, each joined to at
   // most two others then. Per elimination: the variable, those neighbours (kNone where fewer),
   // its blocks to them, their diagonal blocks and the block between them (the fill). The blocks
-  // of an eliminated variable are stored after A's values (`slot` as for A's, 36 per block,
-  // column-major). The eliminations change H's values: each step starts from H linearized afresh
+  // of an eliminated variable are stored after A's values (36 per block, column-major, not
+  // transposed). The eliminations change H's values: each step starts from H linearized afresh
   // (a step not taken linearizes again at the same poses, to the same values).
   struct Elimination {
     long v = kNone;
@@ -155,24 +159,35 @@ struct SparseLevenbergMarquardt::Impl {
   void add(long block, const Block& m, bool diagonal) {
     if (block == kNone) return;
     double* x = static_cast<double*>(H->x);
-    const long* at = &slot[36 * block];
-    for (int c = 0; c < 6; ++c) {
-      const int rows = diagonal ? c + 1 : 6;
-      for (int r = 0; r < rows; ++r) x[at[6 * c + r]] += m(r, c);
+    const long* at = &column[6 * block];
+    if (transposed[block]) {
+      for (int c = 0; c < 6; ++c) {
+        const int rows = diagonal ? c + 1 : 6;
+        for (int r = 0; r < rows; ++r) x[at[r] + c] += m(r, c);
+      }
+    } else {
+      for (int c = 0; c < 6; ++c) {
+        const int rows = diagonal ? c + 1 : 6;
+        for (int r = 0; r < rows; ++r) x[at[c] + r] += m(r, c);
+      }
     }
   }
+  // Where H's entry (r, c) of block `block` is in A's values.
+  long slot(long block, int r, int c) const {
+    const long* at = &column[6 * block];
+    return transposed[block] ? at[r] + c : at[c] + r;
+  }
   // Where H's diagonal entry (c, c) of variable v is in A's values.
-  long diagonalSlot(size_t v, int c) const { return slot[36 * diagonal_block[v] + 7 * c]; }
+  long diagonalSlot(size_t v, int c) const { return slot(diagonal_block[v], c, c); }
 
   // Block `block` of H as stored: H_rc for its pair (r, c), a diagonal block made symmetric.
   Block read(long block, bool diagonal) const {
     const double* x = static_cast<const double*>(H->x);
-    const long* at = &slot[36 * block];
     Block m;
     for (int c = 0; c < 6; ++c) {
       for (int r = 0; r < 6; ++r) {
         if (diagonal && r > c) continue;
-        m(r, c) = x[at[6 * c + r]];
+        m(r, c) = x[slot(block, r, c)];
         if (diagonal) m(c, r) = m(r, c);
       }
     }
@@ -505,9 +520,9 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
     return columns;
   };
   // A as a CHOLMOD matrix (values zero; only the pattern for `values` false) and, with `values`,
-  // `slot`, the eliminated blocks' values after A's. An entry (i, j) of A's block at (R, C) is
-  // H's entry (i, j) of its block where R is that block's row variable and R != C, else (j, i); a
-  // diagonal block keeps one triangle.
+  // `column` and `transposed`, the eliminated blocks' values after A's. An entry (i, j) of A's
+  // block at (R, C) is H's entry (i, j) of its block where R is that block's row variable and R !=
+  // C, else (j, i); a diagonal block keeps one triangle.
   const auto store = [&](const std::vector<long>& position, int stype, bool values) {
     const auto columns = placeBlocks(position, stype);
     cholmod_sparse* A = cholmod_l_allocate_sparse(
@@ -516,7 +531,10 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
     if (A == nullptr) return A;
     auto* column_start = static_cast<SuiteSparse_long*>(A->p);
     auto* row_index = static_cast<SuiteSparse_long*>(A->i);
-    if (values) m.slot.assign(36 * block_at.size(), kNone);
+    if (values) {
+      m.column.assign(6 * block_at.size(), kNone);
+      m.transposed.assign(block_at.size(), 0);
+    }
     long at = 0;
     for (size_t C = 0; C < m.reduced; ++C) {
       for (int j = 0; j < 6; ++j) {
@@ -526,11 +544,11 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
           const bool as_stored = !diagonal && position[block_at[k].first] == R;
           const int first = diagonal && stype < 0 ? j : 0;
           const int last = diagonal && stype > 0 ? j : 5;
-          for (int i = first; i <= last; ++i) {
-            if (values)
-              m.slot[36 * k + (as_stored || (diagonal && stype > 0) ? 6 * j + i : 6 * i + j)] = at;
-            row_index[at++] = 6 * R + i;
+          if (values) {
+            m.column[6 * k + j] = at - first;
+            m.transposed[k] = !as_stored && !(diagonal && stype > 0);
           }
+          for (int i = first; i <= last; ++i) row_index[at++] = 6 * R + i;
         }
       }
     }
@@ -538,7 +556,8 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
     if (values) {
       for (size_t k = 0; k < block_at.size(); ++k) {
         if (inA(k)) continue;
-        for (int i = 0; i < 36; ++i) m.slot[36 * k + i] = at++;
+        for (int c = 0; c < 6; ++c) m.column[6 * k + c] = at + 6 * c;
+        at += 36;
       }
       std::fill_n(static_cast<double*>(A->x), at, 0.0);
     }
