@@ -38,6 +38,7 @@
 
 #include "hydra_multi/eval/dataset_evaluation.h"
 #include "hydra_multi/eval/dataset_ground_truth.h"
+#include "hydra_multi/station/freed_memory.h"
 #include "hydra_multi/station/station.h"
 #include "hydra_multi/station/station_config.h"
 
@@ -77,6 +78,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  if (options.keep_freed_mb > 0) keepFreedMemory();
   auto streams = loadDatasetStreams(argv[1]);
   if (!streams) {
     std::fprintf(stderr, "error: %s\n", streams.error().c_str());
@@ -112,6 +114,7 @@ int main(int argc, char** argv) {
     const std::vector<double> support = interRobotSupport(detector.loopClosures());
     const BackendRoundReport r =
         backend.round(processor.graph(), robots, inter, root, support, scratch);
+    trimFreedMemory(options.keep_freed_mb << 20);  // as the station does after a round
     // Kept inter-robot loop closures the truth calls wrong (-1: no truth).
     long wrong = truth ? 0 : -1;
     const auto stamp = [&processor](NodeId keyframe) -> int64_t {

@@ -15,6 +15,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_EQ(options.backend.deformation.solver.solver.linearization_threads, 2);
   EXPECT_EQ(options.backend.reconciliation.icp_threads, 2);
   EXPECT_TRUE(options.backend.deformation.whole_graph_analysis_ahead);
+  EXPECT_EQ(options.keep_freed_mb, 256u);
   const Status s = applyStationConfig(R"({
       "loop_closures": {"object_ambiguity_ratio": 0, "object_rival_distance": 2.5,
                         "anchor_objects": false},
@@ -29,7 +30,8 @@ TEST(StationConfig, KeysSetOptions) {
                          "place_max_distance": 0.6, "label_votes": true, "icp_threads": 3,
                          "label_confusion": 0.2, "label_min_odds": 2},
       "rooms": {"enabled": false, "min_room_places": 4, "threshold_rule": "most",
-                    "max_door_radius": 0.6}})",
+                    "max_door_radius": 0.6},
+      "memory": {"keep_freed_mb": 0}})",
                                       "test.json", options);
   ASSERT_TRUE(s.ok()) << s.message();
   EXPECT_DOUBLE_EQ(options.detector.object_ambiguity_ratio, 0.0);
@@ -64,6 +66,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_EQ(options.backend.rooms.min_room_places, 4u);
   EXPECT_EQ(options.backend.rooms.rule, RoomSegmentationOptions::Rule::kMost);
   EXPECT_DOUBLE_EQ(options.backend.rooms.max_door_radius, 0.6);
+  EXPECT_EQ(options.keep_freed_mb, 0u);
 }
 
 TEST(StationConfig, ErrorsNameTheProblemAndChangeNothing) {
@@ -78,6 +81,7 @@ TEST(StationConfig, ErrorsNameTheProblemAndChangeNothing) {
       {R"({"loop_closures": {"object_ambiguity_ratio": -0.5}})",
        "loop_closures.object_ambiguity_ratio: expected a number >= 0"},
       {R"({"rooms": {"min_places": 3}})", "unknown key rooms.min_places"},
+      {R"({"memory": {"keep_freed_mb": -1}})", "memory.keep_freed_mb: expected an integer >= 0"},
       {R"({"rooms": {"threshold_rule": "max"}})",
        "rooms.threshold_rule: expected \"median\" or \"most\""},
       {R"({"deformation": {"mesh_variance": -1}})",

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <thread>
 
+#include "hydra_multi/station/freed_memory.h"
 #include "hydra_multi/station/frontend_digest.h"
 #include "hydra_multi/station/time_order.h"
 
@@ -99,6 +100,7 @@ struct Station::Impl {
         detector(options.detector),
         backend(options.backend) {
     processor.keepDeltas();
+    if (options.keep_freed_mb > 0) keepFreedMemory();
     if (options.time_order_hold_s > 0.0)
       time_order.emplace(std::chrono::duration_cast<Clock::duration>(
                              std::chrono::duration<double>(options.time_order_hold_s)),
@@ -186,6 +188,7 @@ void Station::Impl::runRound(const Snapshot& s) {
   timing.round = result.rounds.size();
   timing.after_update = s.after_update;
   timing.report = backend.round(frontend_graph, robots, s.inter_robot, s.root, s.support, s.last);
+  trimFreedMemory(options.keep_freed_mb << 20);
   result.rounds.push_back(timing);
   if (options.on_round) {
     options.on_round({backend.graph(), timing, backend.loopClosures(), backend.merges(),

@@ -55,6 +55,9 @@ struct StationOptions {
   /// With the time order: the team's size; until that many robots have sent something, only the
   /// hold releases (0: the robots heard of so far are the team).
   size_t expected_robots = 0;
+  /// Freed memory kept for the next backend round, up to this many MB, then all handed back
+  /// (freed_memory.h); 0: the allocator's default (freed pages handed back within about 10 s).
+  size_t keep_freed_mb = 256;
   ProcessorOptions processor;
   LoopClosureOptions detector;
   BackendOptions backend;

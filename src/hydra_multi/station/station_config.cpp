@@ -192,16 +192,20 @@ const std::map<std::string, std::map<std::string, Setter>>& setters() {
         {"max_door_radius",
          number([](StationOptions& o, double x) { o.backend.rooms.max_door_radius = x; }, 0.0,
                 false)},
-        {"threshold_rule", [](const Json& v, StationOptions& o) -> std::string {
-           using Rule = RoomSegmentationOptions::Rule;
-           if (v == "median")
-             o.backend.rooms.rule = Rule::kMedian;
-           else if (v == "most")
-             o.backend.rooms.rule = Rule::kMost;
-           else
-             return "expected \"median\" or \"most\"";
-           return "";
-         }}}}};
+        {"threshold_rule",
+         [](const Json& v, StationOptions& o) -> std::
+                                                  string {
+                                                    using Rule = RoomSegmentationOptions::Rule;
+                                                    if (v == "median")
+                                                      o.backend.rooms.rule = Rule::kMedian;
+                                                    else if (v == "most")
+                                                      o.backend.rooms.rule = Rule::kMost;
+                                                    else
+                                                      return "expected \"median\" or \"most\"";
+                                                    return "";
+                                                  }}}},
+      {"memory",
+       {{"keep_freed_mb", count([](StationOptions& o, int n) { o.keep_freed_mb = n; }, 0)}}}};
   return table;
 }
 
