@@ -114,7 +114,8 @@ int main(int argc, char** argv) {
     const std::vector<double> support = interRobotSupport(detector.loopClosures());
     const BackendRoundReport r =
         backend.round(processor.graph(), robots, inter, root, support, scratch);
-    trimFreedMemory(options.keep_freed_mb << 20);  // as the station does after a round
+    if (options.keep_freed_mb > 0)  // as the station does after a round
+      trimFreedMemory(options.keep_freed_mb << 20);
     // Kept inter-robot loop closures the truth calls wrong (-1: no truth).
     long wrong = truth ? 0 : -1;
     const auto stamp = [&processor](NodeId keyframe) -> int64_t {

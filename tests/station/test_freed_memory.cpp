@@ -1,7 +1,7 @@
 // Freed memory kept between backend rounds (station/freed_memory.h): once kept, a large block's
 // pages stay with the allocator after it is freed, even in the arena that held them before
 // (jemalloc's for blocks of 8 MB and more, which otherwise hands them back at once), until a trim
-// finds more than its budget.
+// finds more than its budget; after the hand-back they go back at once again.
 
 #include <gtest/gtest.h>
 
@@ -44,6 +44,12 @@ TEST(FreedMemory, KeptUntilABudgetThenHandedBack) {
   EXPECT_TRUE(trimmed.handed_back);
   EXPECT_GE(trimmed.bytes, kBlock);
   EXPECT_LT(trimFreedMemory(SIZE_MAX).bytes, kBlock);
+  // After the last round: handed back as before keepFreedMemory, at once for such a block.
+  handBackFreedMemory();
+  allocateTouchAndFree();
+  const FreedMemory after = trimFreedMemory(0);
+  EXPECT_FALSE(after.handed_back);
+  EXPECT_LT(after.bytes, kBlock);
 #endif
 }
 

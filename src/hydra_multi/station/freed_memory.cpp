@@ -2,9 +2,10 @@
 
 #include <sys/types.h>
 
-#include <atomic>
 #include <cstdint>
 #include <cstdlib>
+#include <map>
+#include <mutex>
 #include <string>
 
 #ifdef HYDRA_MULTI_JEMALLOC
@@ -14,24 +15,47 @@
 namespace hydra_multi {
 namespace {
 
-std::atomic<bool> kept{false};
+#ifdef HYDRA_MULTI_JEMALLOC
+std::mutex mutex;
+bool kept = false;
+ssize_t default_decay_ms = 0;                // jemalloc's default before keepFreedMemory
+std::map<unsigned, ssize_t> arena_decay_ms;  // each arena's then
+
+bool setDecay(const std::string& name, ssize_t ms, ssize_t* before = nullptr) {
+  size_t size = sizeof(ssize_t);
+  return mallctl(name.c_str(), before, before != nullptr ? &size : nullptr, &ms, sizeof(ms)) == 0;
+}
+
+unsigned arenaCount() {
+  unsigned arenas = 0;
+  size_t size = sizeof(arenas);
+  return mallctl("arenas.narenas", &arenas, &size, nullptr, 0) == 0 ? arenas : 0;
+}
+
+std::string arenaDecay(unsigned arena) {
+  return "arena." + std::to_string(arena) + ".dirty_decay_ms";
+}
+
+const std::string& everyArena() {
+  static const std::string every = "arena." + std::to_string(MALLCTL_ARENAS_ALL);
+  return every;
+}
+#endif
 
 }  // namespace
 
 bool keepFreedMemory() {
 #ifdef HYDRA_MULTI_JEMALLOC
+  const std::lock_guard<std::mutex> lock(mutex);
   if (kept) return true;
   if (std::getenv("MALLOC_CONF") != nullptr) return false;
-  ssize_t never = -1;
-  // Arenas made from now on (the one for large blocks among them), then those made already.
-  if (mallctl("arenas.dirty_decay_ms", nullptr, nullptr, &never, sizeof(never)) != 0) return false;
-  unsigned arenas = 0;
-  size_t size = sizeof(arenas);
-  if (mallctl("arenas.narenas", &arenas, &size, nullptr, 0) != 0) return false;
-  for (unsigned i = 0; i < arenas; ++i) {
-    // An arena not initialized yet answers an error; it will be made with the new default.
-    const std::string name = "arena." + std::to_string(i) + ".dirty_decay_ms";
-    mallctl(name.c_str(), nullptr, nullptr, &never, sizeof(never));
+  // Arenas made from now on (the one for large blocks among them), then those made already (one
+  // not initialized yet answers an error: it will be made with the new default).
+  if (!setDecay("arenas.dirty_decay_ms", -1, &default_decay_ms)) return false;
+  arena_decay_ms.clear();
+  for (unsigned i = 0, n = arenaCount(); i < n; ++i) {
+    ssize_t before = 0;
+    if (setDecay(arenaDecay(i), -1, &before)) arena_decay_ms[i] = before;
   }
   kept = true;
   return true;
@@ -40,10 +64,24 @@ bool keepFreedMemory() {
 #endif
 }
 
+void handBackFreedMemory() {
+#ifdef HYDRA_MULTI_JEMALLOC
+  const std::lock_guard<std::mutex> lock(mutex);
+  if (!kept) return;
+  setDecay("arenas.dirty_decay_ms", default_decay_ms);
+  for (unsigned i = 0, n = arenaCount(); i < n; ++i) {
+    const auto before = arena_decay_ms.find(i);
+    setDecay(arenaDecay(i), before != arena_decay_ms.end() ? before->second : default_decay_ms);
+  }
+  mallctl((everyArena() + ".purge").c_str(), nullptr, nullptr, nullptr, 0);
+  kept = false;
+#endif
+}
+
 FreedMemory trimFreedMemory(size_t budget_bytes) {
   FreedMemory freed;
 #ifdef HYDRA_MULTI_JEMALLOC
-  if (!kept) return freed;
+  const std::lock_guard<std::mutex> lock(mutex);
   uint64_t epoch = 1;  // refreshes the statistics
   size_t size = sizeof(epoch);
   if (mallctl("epoch", &epoch, &size, &epoch, size) != 0) return freed;
@@ -55,9 +93,9 @@ FreedMemory trimFreedMemory(size_t budget_bytes) {
   size = sizeof(page);
   if (mallctl("arenas.page", &page, &size, nullptr, 0) != 0) return freed;
   freed.bytes = pages * page;
-  if (freed.bytes > budget_bytes)
+  if (kept && freed.bytes > budget_bytes)
     freed.handed_back =
-        mallctl(("arena." + every + ".purge").c_str(), nullptr, nullptr, nullptr, 0) == 0;
+        mallctl((everyArena() + ".purge").c_str(), nullptr, nullptr, nullptr, 0) == 0;
 #else
   (void)budget_bytes;
 #endif

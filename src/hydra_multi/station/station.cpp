@@ -188,7 +188,11 @@ void Station::Impl::runRound(const Snapshot& s) {
   timing.round = result.rounds.size();
   timing.after_update = s.after_update;
   timing.report = backend.round(frontend_graph, robots, s.inter_robot, s.root, s.support, s.last);
-  trimFreedMemory(options.keep_freed_mb << 20);
+  if (options.keep_freed_mb > 0 && s.last) {
+    handBackFreedMemory();  // no round follows
+  } else if (options.keep_freed_mb > 0) {
+    trimFreedMemory(options.keep_freed_mb << 20);
+  }
   result.rounds.push_back(timing);
   if (options.on_round) {
     options.on_round({backend.graph(), timing, backend.loopClosures(), backend.merges(),
