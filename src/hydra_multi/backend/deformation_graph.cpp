@@ -207,10 +207,11 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
       if (!whole) continue;
       const auto cp = near_cp.nearest(p, made);
       if (!cp.empty() && cp.front().distance <= options.place_link_radius) {
-        toWhole(edge(cp_ids[cp.front().index], place, at(p - cp_positions[cp.front().index]),
-                     options.mesh_variance));
+        dg.graph.edges.push_back(edge(cp_ids[cp.front().index], place,
+                                      at(p - cp_positions[cp.front().index]),
+                                      options.mesh_variance));
       } else {
-        toWhole(to_keyframe);
+        dg.graph.edges.push_back(to_keyframe);
       }
     }
   }

@@ -36,9 +36,10 @@ std::string arenaDecay(unsigned arena) {
   return "arena." + std::to_string(arena) + ".dirty_decay_ms";
 }
 
-const std::string& everyArena() {
-  static const std::string every = "arena." + std::to_string(MALLCTL_ARENAS_ALL);
-  return every;
+const std::string kEveryArena = std::to_string(MALLCTL_ARENAS_ALL);  // in names: all, summed
+
+bool purgeEveryArena() {
+  return mallctl(("arena." + kEveryArena + ".purge").c_str(), nullptr, nullptr, nullptr, 0) == 0;
 }
 #endif
 
@@ -73,7 +74,7 @@ void handBackFreedMemory() {
     const auto before = arena_decay_ms.find(i);
     setDecay(arenaDecay(i), before != arena_decay_ms.end() ? before->second : default_decay_ms);
   }
-  mallctl((everyArena() + ".purge").c_str(), nullptr, nullptr, nullptr, 0);
+  purgeEveryArena();
   kept = false;
 #endif
 }
@@ -85,17 +86,14 @@ FreedMemory trimFreedMemory(size_t budget_bytes) {
   uint64_t epoch = 1;  // refreshes the statistics
   size_t size = sizeof(epoch);
   if (mallctl("epoch", &epoch, &size, &epoch, size) != 0) return freed;
-  const std::string every = std::to_string(MALLCTL_ARENAS_ALL);  // every arena's, summed
   size_t pages = 0, page = 0;
   size = sizeof(pages);
-  if (mallctl(("stats.arenas." + every + ".pdirty").c_str(), &pages, &size, nullptr, 0) != 0)
+  if (mallctl(("stats.arenas." + kEveryArena + ".pdirty").c_str(), &pages, &size, nullptr, 0) != 0)
     return freed;
   size = sizeof(page);
   if (mallctl("arenas.page", &page, &size, nullptr, 0) != 0) return freed;
   freed.bytes = pages * page;
-  if (kept && freed.bytes > budget_bytes)
-    freed.handed_back =
-        mallctl((everyArena() + ".purge").c_str(), nullptr, nullptr, nullptr, 0) == 0;
+  if (kept && freed.bytes > budget_bytes) freed.handed_back = purgeEveryArena();
 #else
   (void)budget_bytes;
 #endif

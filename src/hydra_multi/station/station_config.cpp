@@ -38,6 +38,17 @@ std::string setLabelConfusion(const Json& v, StationOptions& o) {
   return "";
 }
 
+std::string setThresholdRule(const Json& v, StationOptions& o) {
+  using Rule = RoomSegmentationOptions::Rule;
+  if (v == "median")
+    o.backend.rooms.rule = Rule::kMedian;
+  else if (v == "most")
+    o.backend.rooms.rule = Rule::kMost;
+  else
+    return "expected \"median\" or \"most\"";
+  return "";
+}
+
 Setter count(std::function<void(StationOptions&, int)> set, int min) {
   return [set, min](const Json& v, StationOptions& o) -> std::string {
     if (!v.is_number_integer() || v.get<int64_t>() < min || v.get<int64_t>() > 1000000)
@@ -192,18 +203,7 @@ const std::map<std::string, std::map<std::string, Setter>>& setters() {
         {"max_door_radius",
          number([](StationOptions& o, double x) { o.backend.rooms.max_door_radius = x; }, 0.0,
                 false)},
-        {"threshold_rule",
-         [](const Json& v, StationOptions& o) -> std::
-                                                  string {
-                                                    using Rule = RoomSegmentationOptions::Rule;
-                                                    if (v == "median")
-                                                      o.backend.rooms.rule = Rule::kMedian;
-                                                    else if (v == "most")
-                                                      o.backend.rooms.rule = Rule::kMost;
-                                                    else
-                                                      return "expected \"median\" or \"most\"";
-                                                    return "";
-                                                  }}}},
+        {"threshold_rule", setThresholdRule}}},
       {"memory",
        {{"keep_freed_mb", count([](StationOptions& o, int n) { o.keep_freed_mb = n; }, 0)}}}};
   return table;
