@@ -125,7 +125,8 @@ TEST(Residuals, JacobiansMatchNumericDifferentiation) {
 
 // The geodesic cost with closed-form Jacobians: the automatic residual's value, and Jacobians that
 // match central differences on its manifold, at identity, near it, across the series' switch
-// (an error of about 0.1 rad), at random states and with errors near pi.
+// (an error of about 0.1 rad), at random states and with errors near pi; with a full information
+// and with a diagonal one (kept as its diagonal).
 TEST(Residuals, GeodesicCostMatchesItsAutomaticTwin) {
   std::mt19937 rng(73);
   const LeftQuaternionTangentManifold manifold;
@@ -142,7 +143,8 @@ TEST(Residuals, GeodesicCostMatchesItsAutomaticTwin) {
         const Eigen::Vector3d axis = toIso(randomPose(rng, 1.0, 1.0)).translation().normalized();
         measured.linear() = Eigen::AngleAxisd(3.1 + 0.04 * trial / 20.0, axis).toRotationMatrix();
       }
-      const Matrix6d info = randomInformation(rng);
+      Matrix6d info = randomInformation(rng);
+      if (trial % 2 == 1) info = Matrix6d(info.diagonal().asDiagonal());
       const GeodesicCost cost(measured, info);
       std::unique_ptr<ceres::CostFunction> twin(GeodesicResidual::Create(measured, info));
       const double* parameters[4] = {i.q.coeffs().data(), i.t.data(), j.q.coeffs().data(),

@@ -26,16 +26,22 @@ struct PoseGraphProblem::Impl {
   std::optional<size_t> anchor;
   std::vector<bool> constant;  // per block (empty: none), besides the anchor
   std::unique_ptr<ceres::Manifold> rotation;
-  // Per edge: its cost (null if excluded), its weight and its poses; left out (leaveOut): kept,
-  // but not in the problem.
+  // Per edge: its cost (none if excluded): a geodesic factor (in `geodesic`, one array for all)
+  // or a Ceres cost function (chordal); its weight and its poses; left out (leaveOut): kept, but
+  // not in the problem.
   struct EdgeBlock {
+    const GeodesicFactor* geodesic = nullptr;
     std::unique_ptr<ceres::CostFunction> cost;
     double weight = 1.0;
     size_t i = 0, j = 0;
     bool left_out = false;
-    bool active() const { return cost != nullptr && !left_out; }
+    bool hasCost() const { return geodesic != nullptr || cost != nullptr; }
+    bool active() const { return hasCost() && !left_out; }
   };
+  std::vector<GeodesicFactor> geodesic;
   std::vector<EdgeBlock> edges;
+  // The Ceres cost functions of the geodesic factors, for a Ceres problem (made with it).
+  std::vector<std::unique_ptr<ceres::CostFunction>> geodesic_costs;
   // Sparse Cholesky: our Levenberg-Marquardt, its analysis kept between solves.
   std::unique_ptr<SparseLevenbergMarquardt> lm;
   double analysis_s = 0.0;  ///< the analyses since the last solve reported them
@@ -49,6 +55,7 @@ struct PoseGraphProblem::Impl {
     lm.reset();
     problem.reset();
     losses.clear();
+    geodesic_costs.clear();
   }
 
   static ceres::LossFunction* lossOf(double weight) {
@@ -70,8 +77,13 @@ struct PoseGraphProblem::Impl {
     for (size_t k = 0; k < edges.size(); ++k) {
       EdgeBlock& e = edges[k];
       if (!e.active()) continue;
+      ceres::CostFunction* cost = e.cost.get();
+      if (e.geodesic != nullptr) {
+        geodesic_costs.push_back(std::make_unique<GeodesicCost>(*e.geodesic));
+        cost = geodesic_costs.back().get();
+      }
       losses[k] = new ceres::LossFunctionWrapper(lossOf(e.weight), ceres::TAKE_OWNERSHIP);
-      problem->AddResidualBlock(e.cost.get(), losses[k], blocks[e.i].q.coeffs().data(),
+      problem->AddResidualBlock(cost, losses[k], blocks[e.i].q.coeffs().data(),
                                 blocks[e.i].t.data(), blocks[e.j].q.coeffs().data(),
                                 blocks[e.j].t.data());
     }
@@ -90,7 +102,7 @@ struct PoseGraphProblem::Impl {
     const auto start = std::chrono::steady_clock::now();
     std::vector<LmTerm> terms;
     for (const EdgeBlock& e : edges) {
-      if (e.active()) terms.push_back({e.cost.get(), e.i, e.j});
+      if (e.active()) terms.push_back({e.cost.get(), e.i, e.j, e.geodesic});
     }
     lm = std::make_unique<SparseLevenbergMarquardt>(blocks.size(), std::move(terms), fixedBlocks(),
                                                     *rotation, options.analyses.get(),
@@ -127,6 +139,7 @@ PoseGraphProblem::PoseGraphProblem(const PoseGraph& graph,
     m.rotation = std::make_unique<LeftQuaternionTangentManifold>();
   }
   m.edges.resize(graph.edges.size());
+  if (options.residual != ResidualType::kChordal) m.geodesic.reserve(graph.edges.size());
   for (size_t k = 0; k < graph.edges.size(); ++k) {
     const PoseGraphEdge& edge = graph.edges[k];
     const auto i = m.index.find(edge.from);
@@ -135,9 +148,11 @@ PoseGraphProblem::PoseGraphProblem(const PoseGraph& graph,
     Impl::EdgeBlock& e = m.edges[k];
     e.i = i->second;
     e.j = j->second;
-    e.cost.reset(options.residual == ResidualType::kChordal
-                     ? ChordalResidual::Create(edge.T_from_to, isotropicWeights(edge.information))
-                     : new GeodesicCost(edge.T_from_to, edge.information));
+    if (options.residual == ResidualType::kChordal) {
+      e.cost.reset(ChordalResidual::Create(edge.T_from_to, isotropicWeights(edge.information)));
+    } else {
+      e.geodesic = &m.geodesic.emplace_back(edge.T_from_to, edge.information);
+    }
   }
   if (const auto a = m.index.find(anchor); a != m.index.end()) m.anchor = a->second;
 }
@@ -153,7 +168,7 @@ const PoseGraphOptimizerOptions& PoseGraphProblem::options() const { return impl
 void PoseGraphProblem::setWeights(const std::vector<double>& weights) {
   Impl& m = *impl_;
   for (size_t k = 0; k < m.edges.size() && k < weights.size(); ++k) {
-    if (!m.edges[k].cost) continue;
+    if (!m.edges[k].hasCost()) continue;
     m.edges[k].weight = weights[k];
     if (m.problem && m.losses[k] != nullptr)
       m.losses[k]->Reset(Impl::lossOf(weights[k]), ceres::TAKE_OWNERSHIP);
@@ -244,7 +259,7 @@ PoseGraphProblem& PoseGraphProblem::leaveOut(const std::vector<bool>& edges) {
   bool changed = false;
   for (size_t k = 0; k < m.edges.size(); ++k) {
     // An edge without a cost is no factor either way (and its weight is never set).
-    const bool out = m.edges[k].cost && k < edges.size() && edges[k];
+    const bool out = m.edges[k].hasCost() && k < edges.size() && edges[k];
     changed = changed || m.edges[k].left_out != out;
     m.edges[k].left_out = out;
   }
@@ -268,9 +283,16 @@ std::vector<double> PoseGraphProblem::squaredResiduals() const {
   for (size_t k = 0; k < impl_->edges.size(); ++k) {
     const Impl::EdgeBlock& e = impl_->edges[k];
     if (!e.active()) continue;
-    const double* parameters[4] = {
-        impl_->blocks[e.i].q.coeffs().data(), impl_->blocks[e.i].t.data(),
-        impl_->blocks[e.j].q.coeffs().data(), impl_->blocks[e.j].t.data()};
+    const PoseParameters &a = impl_->blocks[e.i], &b = impl_->blocks[e.j];
+    if (e.geodesic != nullptr) {
+      Vector6d residual;
+      e.geodesic->evaluate(a.q, a.t, b.q, b.t, residual, nullptr, nullptr);
+      // Summed as a vector of run-time size, in the order the solver sums a term's.
+      result[k] = Eigen::Map<const Eigen::VectorXd>(residual.data(), 6).squaredNorm();
+      continue;
+    }
+    const double* parameters[4] = {a.q.coeffs().data(), a.t.data(), b.q.coeffs().data(),
+                                   b.t.data()};
     Eigen::VectorXd residual(e.cost->num_residuals());
     e.cost->Evaluate(parameters, residual.data(), nullptr);
     result[k] = residual.squaredNorm();

@@ -25,11 +25,23 @@ Matrix6d nearestPositiveDefinite(const Matrix6d& information) {
   return eigen.eigenvectors() * clamped.asDiagonal() * eigen.eigenvectors().transpose();
 }
 
+namespace {
+
+// A diagonal information with a positive diagonal (the station's, per axis).
+bool positiveDiagonal(const Matrix6d& information) {
+  for (int c = 0; c < 6; ++c) {
+    for (int r = 0; r < 6; ++r) {
+      if (r == c ? !(information(r, c) > 0.0) : information(r, c) != 0.0) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
 Matrix6d geodesicSqrtInformation(const Matrix6d& information) {
-  // A diagonal information (the station's, per axis): its square root on the diagonal.
-  const Vector6d diagonal = information.diagonal();
-  if ((information - Matrix6d(diagonal.asDiagonal())).isZero(0.0) && (diagonal.array() > 0.0).all())
-    return diagonal.cwiseSqrt().asDiagonal();
+  // A diagonal information: its square root on the diagonal.
+  if (positiveDiagonal(information)) return information.diagonal().cwiseSqrt().asDiagonal();
   // S = D^1/2 V^T from information = V D V^T, so ||S e||^2 = e^T information e. Unlike a
   // Cholesky factor it exists for semi-definite information too (negative round-off clamped). An
   // information that is not positive definite is weighed by its nearest positive-definite matrix.
@@ -98,15 +110,19 @@ bool LeftQuaternionTangentManifold::MinusJacobian(const double*, double* jacobia
   return true;
 }
 
-GeodesicCost::GeodesicCost(const Eigen::Isometry3d& T_i_j, const Matrix6d& information)
-    : t_ij_(T_i_j.translation()), sqrt_info_(geodesicSqrtInformation(information)) {
+GeodesicFactor::GeodesicFactor(const Eigen::Isometry3d& T_i_j, const Matrix6d& information)
+    : t_ij_(T_i_j.translation()) {
   R_ij_t_ = Eigen::Quaterniond(T_i_j.linear()).normalized().toRotationMatrix().transpose();
+  if (positiveDiagonal(information)) {
+    sqrt_diagonal_ = information.diagonal().cwiseSqrt();
+  } else {
+    sqrt_info_ = std::make_shared<const Matrix6d>(geodesicSqrtInformation(information));
+  }
 }
 
-bool GeodesicCost::Evaluate(double const* const* parameters, double* residuals,
-                            double** jacobians) const {
-  const Eigen::Map<const Eigen::Quaterniond> q_i(parameters[0]), q_j(parameters[2]);
-  const Eigen::Map<const Eigen::Vector3d> t_i(parameters[1]), t_j(parameters[3]);
+void GeodesicFactor::evaluate(const Eigen::Quaterniond& q_i, const Eigen::Vector3d& t_i,
+                              const Eigen::Quaterniond& q_j, const Eigen::Vector3d& t_j,
+                              Vector6d& r, Matrix6d* J_i, Matrix6d* J_j) const {
   const Eigen::Matrix3d R_i = q_i.toRotationMatrix(), R_j = q_j.toRotationMatrix();
   const Eigen::Matrix3d A = R_ij_t_ * R_i.transpose();  // R_ij^T R_i^T
   const Eigen::Vector3d d = t_j - t_i;
@@ -127,12 +143,17 @@ bool GeodesicCost::Evaluate(double const* const* parameters, double* residuals,
   const Eigen::Matrix3d Phi = hat(phi);
   const Eigen::Vector3d phi_x_t = phi.cross(t_e);
   const Eigen::Vector3d phi_x_phi_x_t = phi.cross(phi_x_t);
-  Eigen::Matrix<double, 6, 1> e;
+  Vector6d e;
   e.head<3>() = t_e - 0.5 * phi_x_t + c * phi_x_phi_x_t;
   e.tail<3>() = phi;
-  Eigen::Map<Eigen::Matrix<double, 6, 1>> r(residuals);
-  r = sqrt_info_ * e;
-  if (jacobians == nullptr) return true;
+  // With a diagonal sqrt_info S, S x is its diagonal times x: the full product's other terms are
+  // zeros, which add nothing.
+  if (sqrt_info_ != nullptr) {
+    r = *sqrt_info_ * e;
+  } else {
+    r = sqrt_diagonal_.cwiseProduct(e);
+  }
+  if (J_i == nullptr && J_j == nullptr) return;
 
   const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
   const Eigen::Matrix3d W = I - 0.5 * Phi + c * Phi * Phi;
@@ -141,28 +162,50 @@ bool GeodesicCost::Evaluate(double const* const* parameters, double* residuals,
       0.5 * hat(t_e) + dc * phi_x_phi_x_t * phi.transpose() +
       c * (phi.dot(t_e) * I + phi * t_e.transpose() - 2.0 * t_e * phi.transpose());
   const Eigen::Matrix3d dphi_dj = Jr_inv * R_j.transpose();
-  const Eigen::Matrix<double, 6, 3> Sr = sqrt_info_.leftCols<3>() * W;  // d r / d t_E
-  // d r / d phi, through rho and phi
-  const Eigen::Matrix<double, 6, 3> Sphi = sqrt_info_.leftCols<3>() * P + sqrt_info_.rightCols<3>();
+  Eigen::Matrix<double, 6, 3> Sr, Sphi;  // d r / d t_E; d r / d phi, through rho and phi
+  if (sqrt_info_ != nullptr) {
+    Sr = sqrt_info_->leftCols<3>() * W;
+    Sphi = sqrt_info_->leftCols<3>() * P + sqrt_info_->rightCols<3>();
+  } else {
+    Sr.topRows<3>() = sqrt_diagonal_.head<3>().asDiagonal() * W;
+    Sr.bottomRows<3>().setZero();
+    Sphi.topRows<3>() = sqrt_diagonal_.head<3>().asDiagonal() * P;
+    Sphi.bottomRows<3>() = sqrt_diagonal_.tail<3>().asDiagonal();
+  }
+  if (J_i != nullptr) {
+    J_i->leftCols<3>() = Sr * (A * hat(d)) - Sphi * dphi_dj;
+    J_i->rightCols<3>() = -Sr * A;
+  }
+  if (J_j != nullptr) {
+    J_j->leftCols<3>() = Sphi * dphi_dj;
+    J_j->rightCols<3>() = Sr * A;
+  }
+}
+
+bool GeodesicCost::Evaluate(double const* const* parameters, double* residuals,
+                            double** jacobians) const {
+  const Eigen::Map<const Eigen::Quaterniond> q_i(parameters[0]), q_j(parameters[2]);
+  const Eigen::Map<const Eigen::Vector3d> t_i(parameters[1]), t_j(parameters[3]);
+  Vector6d r;
+  Matrix6d J_i, J_j;
+  const bool any = jacobians != nullptr;
+  factor_.evaluate(q_i, t_i, q_j, t_j, r, any ? &J_i : nullptr, any ? &J_j : nullptr);
+  Eigen::Map<Vector6d> out(residuals);
+  out = r;
+  if (!any) return true;
   using Rows4 = Eigen::Map<Eigen::Matrix<double, 6, 4, Eigen::RowMajor>>;
   using Rows3 = Eigen::Map<Eigen::Matrix<double, 6, 3, Eigen::RowMajor>>;
-  if (jacobians[0] != nullptr) {
-    Rows4 J(jacobians[0]);
-    J.leftCols<3>() = Sr * (A * hat(d)) - Sphi * dphi_dj;
-    J.col(3).setZero();
-  }
-  if (jacobians[1] != nullptr) {
-    Rows3 J(jacobians[1]);
-    J = -Sr * A;
-  }
-  if (jacobians[2] != nullptr) {
-    Rows4 J(jacobians[2]);
-    J.leftCols<3>() = Sphi * dphi_dj;
-    J.col(3).setZero();
-  }
-  if (jacobians[3] != nullptr) {
-    Rows3 J(jacobians[3]);
-    J = Sr * A;
+  for (int end = 0; end < 2; ++end) {
+    const Matrix6d& J = end == 0 ? J_i : J_j;
+    if (double* rotation = jacobians[2 * end]) {
+      Rows4 block(rotation);
+      block.leftCols<3>() = J.leftCols<3>();
+      block.col(3).setZero();
+    }
+    if (double* translation = jacobians[2 * end + 1]) {
+      Rows3 block(translation);
+      block = J.rightCols<3>();
+    }
   }
   return true;
 }

@@ -19,6 +19,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <memory>
 
 #include "hydra_multi/core/se3.h"
 
@@ -138,25 +139,45 @@ class LeftQuaternionTangentManifold : public ceres::Manifold {
   bool MinusJacobian(const double* x, double* jacobian) const override;
 };
 
-/// GeodesicResidual with its Jacobian in closed form, for LeftQuaternionTangentManifold rotations
-/// (t plain R^3). With left perturbations R <- Exp(d) R, e = [rho; phi], W = V(phi)^-1,
+/// GeodesicResidual with its Jacobian in closed form, in the tangent space of left perturbations
+/// R <- Exp(d) R (LeftQuaternionTangentManifold; t plain R^3). With e = [rho; phi], W = V(phi)^-1,
 /// Jr^-1 = I + 1/2 hat(phi) + c hat(phi)^2, c = 1/theta^2 - cot(theta/2) / (2 theta), and
 /// P = d rho / d phi = 1/2 hat(t_E) + dc (phi x (phi x t_E)) phi^T + c ((phi.t_E) I + phi t_E^T -
 /// 2 t_E phi^T), dc = c'(theta) / theta:
 ///   d phi / d_i = -Jr^-1 R_j^T          d phi / d_j = Jr^-1 R_j^T
 ///   d t_E / d_i = R_ij^T R_i^T hat(t_j - t_i),  d t_E / dt_i = -R_ij^T R_i^T = -d t_E / dt_j
 ///   d rho = W d t_E + P d phi;  r = sqrt_info e.
-/// Checked against GeodesicResidual's automatic derivatives (tests/optim/test_residuals.cpp).
-class GeodesicCost : public ceres::SizedCostFunction<6, 4, 3, 4, 3> {
+/// A plain value, not a Ceres cost function: the sparse solver's problems hold one per edge in one
+/// array. A diagonal sqrt_info (the station's information, per axis) is kept as its diagonal, and
+/// multiplies as the full matrix would, to the bit; any other on the heap. Checked against
+/// GeodesicResidual's automatic derivatives (tests/optim/test_residuals.cpp).
+class GeodesicFactor {
  public:
-  GeodesicCost(const Eigen::Isometry3d& T_i_j, const Matrix6d& information);
-  bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const override;
+  GeodesicFactor(const Eigen::Isometry3d& T_i_j, const Matrix6d& information);
+  /// r at poses i and j; J_i, J_j (when not null): d r / d [d_i; t_i] and d r / d [d_j; t_j].
+  void evaluate(const Eigen::Quaterniond& q_i, const Eigen::Vector3d& t_i,
+                const Eigen::Quaterniond& q_j, const Eigen::Vector3d& t_j, Vector6d& r,
+                Matrix6d* J_i, Matrix6d* J_j) const;
 
  private:
   Eigen::Matrix3d R_ij_t_;  // R_ij^T
   Eigen::Vector3d t_ij_;
-  Matrix6d sqrt_info_;
+  Vector6d sqrt_diagonal_;                     // sqrt_info when diagonal
+  std::shared_ptr<const Matrix6d> sqrt_info_;  // sqrt_info otherwise
+};
+
+/// GeodesicFactor as a Ceres cost function on LeftQuaternionTangentManifold: the tangent
+/// Jacobian of a rotation in the first three columns of its quaternion's (the fourth zero).
+class GeodesicCost : public ceres::SizedCostFunction<6, 4, 3, 4, 3> {
+ public:
+  GeodesicCost(const Eigen::Isometry3d& T_i_j, const Matrix6d& information)
+      : factor_(T_i_j, information) {}
+  explicit GeodesicCost(const GeodesicFactor& factor) : factor_(factor) {}
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+ private:
+  GeodesicFactor factor_;
 };
 
 }  // namespace hydra_multi

@@ -13,6 +13,7 @@
 
 #include "hydra_multi/core/parallel.h"
 #include "hydra_multi/optim/fill_reducing_ordering.h"
+#include "hydra_multi/optim/residuals.h"
 #include "hydra_multi/optim/serial_openmp.h"
 #include "hydra_multi/optim/suitesparse_blocks.h"
 
@@ -245,6 +246,18 @@ struct SparseLevenbergMarquardt::Impl {
     const LmTerm& term = terms[k];
     const PoseParameters& a = poses[term.i];
     const PoseParameters& b = poses[term.j];
+    const bool free_i = variable[term.i] != kNone, free_j = variable[term.j] != kNone;
+    if (term.geodesic != nullptr) {
+      Vector6 r6;
+      Block J6_i, J6_j;
+      const bool jacobians = J_i != nullptr;
+      term.geodesic->evaluate(a.q, a.t, b.q, b.t, r6, jacobians && free_i ? &J6_i : nullptr,
+                              jacobians && free_j ? &J6_j : nullptr);
+      r = r6;
+      if (jacobians && free_i) *J_i = J6_i;
+      if (jacobians && free_j) *J_j = J6_j;
+      return true;
+    }
     const double* parameters[4] = {a.q.coeffs().data(), a.t.data(), b.q.coeffs().data(),
                                    b.t.data()};
     const int m = term.cost->num_residuals();
@@ -252,7 +265,6 @@ struct SparseLevenbergMarquardt::Impl {
     if (J_i == nullptr) return term.cost->Evaluate(parameters, r.data(), nullptr);
     AmbientJacobian<4> q_i(m, 4), q_j(m, 4);
     AmbientJacobian<3> t_i(m, 3), t_j(m, 3);
-    const bool free_i = variable[term.i] != kNone, free_j = variable[term.j] != kNone;
     double* jacobians[4] = {free_i ? q_i.data() : nullptr, free_i ? t_i.data() : nullptr,
                             free_j ? q_j.data() : nullptr, free_j ? t_j.data() : nullptr};
     if (!term.cost->Evaluate(parameters, r.data(), jacobians)) return false;
@@ -395,7 +407,7 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
                                                    const ceres::Manifold& rotation,
                                                    SparseAnalyses* analyses, bool keep) {
   for (const LmTerm& t : terms) {
-    if (t.cost->num_residuals() > kMaxResiduals)
+    if (t.geodesic == nullptr && t.cost->num_residuals() > kMaxResiduals)
       throw std::invalid_argument("SparseLevenbergMarquardt: a term has more than " +
                                   std::to_string(kMaxResiduals) + " residuals");
   }

@@ -30,16 +30,21 @@ class Manifold;
 
 namespace hydra_multi {
 
+class GeodesicFactor;
+
 struct PoseParameters {
   Eigen::Quaterniond q;  ///< Ceres' parameter block order x y z w
   Eigen::Vector3d t;
 };
 
-/// A factor r(x_i, x_j): its cost function takes the blocks q_i, t_i, q_j, t_j and has at most 12
-/// residuals (the constructor throws std::invalid_argument otherwise).
+/// A factor r(x_i, x_j): a geodesic one (residuals.h GeodesicFactor, its Jacobian in the tangent
+/// space of LeftQuaternionTangentManifold, the solver's rotation manifold then), or else a cost
+/// function that takes the blocks q_i, t_i, q_j, t_j and has at most 12 residuals (the constructor
+/// throws std::invalid_argument otherwise).
 struct LmTerm {
   const ceres::CostFunction* cost = nullptr;
   size_t i = 0, j = 0;
+  const GeodesicFactor* geodesic = nullptr;  ///< instead of `cost`
 };
 
 struct LmOptions {
