@@ -200,28 +200,33 @@ DeformationWarmStart Backend::lastRound(const DeformationGraph& graph, const Tea
       return it->second * initial;
     return std::nullopt;
   };
+  // The nodes are visited in id order: each map grows at its end.
   for (const auto& [id, initial] : graph.skeleton.poses) {
     if (!poses || !ofKept(id)) continue;
     if (const auto pose = moved(corrections_, latest_corrections_, id, initial))
-      warm.poses[id] = *pose;
+      warm.poses.emplace_hint(warm.poses.end(), id, *pose);
     if (last_proposal == nullptr) continue;
     if (const auto pose = moved(proposal_corrections_, latest_proposal_corrections_, id, initial))
-      (*last_proposal)[id] = *pose;
+      last_proposal->emplace_hint(last_proposal->end(), id, *pose);
     if (const auto pose = moved(held_out_corrections_, latest_held_out_corrections_, id, initial);
         pose && last_held_out != nullptr)
-      (*last_held_out)[id] = *pose;
+      last_held_out->emplace_hint(last_held_out->end(), id, *pose);
   }
   for (const auto& [edge, inlier] : last_verdicts_) {
     if (ofKept(edge.first) && ofKept(edge.second)) warm.verdicts[edge] = inlier;
   }
   if (!poses) return warm;
-  for (const auto& [id, initial] : graph.initial) {
+  // A graph assembled only as far as its skeleton (buildDeformationGraph) is solved no further:
+  // its solve reads the earlier solutions of skeleton nodes alone.
+  const std::map<NodeId, Eigen::Isometry3d>& nodes =
+      graph.whole ? graph.initial : graph.skeleton.poses;
+  for (const auto& [id, initial] : nodes) {
     if (!ofKept(id)) continue;
     if (const auto whole = corrections_.find(id); whole != corrections_.end())
-      warm.last_whole[id] = whole->second * initial;
+      warm.last_whole.emplace_hint(warm.last_whole.end(), id, whole->second * initial);
     if (const auto skeleton = skeleton_corrections_.find(id);
         skeleton != skeleton_corrections_.end())
-      warm.last_skeleton[id] = skeleton->second * initial;
+      warm.last_skeleton.emplace_hint(warm.last_skeleton.end(), id, skeleton->second * initial);
   }
   return warm;
 }

@@ -80,7 +80,7 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
                                        const DeformationGraphOptions& options) {
   DeformationGraph dg;
   // A solve that stops at the skeleton needs no factor of the whole graph.
-  const bool whole = !options.two_stage || options.final_iterations > 0;
+  const bool whole = dg.whole = !options.two_stage || options.final_iterations > 0;
   const auto toWhole = [&dg, whole](const PoseGraphEdge& e) {
     if (whole) dg.graph.edges.push_back(e);
   };
@@ -238,9 +238,9 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
       if (list == &merges) dg.merge_factors.insert({e.from, e.to});
     }
   }
-  if (whole) dg.graph.poses = dg.initial;
   for (const auto& [id, pose] : dg.initial) {
-    if (!control_points.count(id)) dg.skeleton.poses[id] = pose;
+    if (!control_points.count(id))
+      dg.skeleton.poses.emplace_hint(dg.skeleton.poses.end(), id, pose);
   }
   return dg;
 }

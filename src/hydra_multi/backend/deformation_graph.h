@@ -116,19 +116,20 @@ ControlPointGraph coarserControlPoints(const std::vector<ControlPoint>& points,
                                        const std::vector<ControlPointEdge>& edges, double voxel);
 
 struct DeformationGraph {
-  PoseGraph graph;                              ///< every node and factor
+  PoseGraph graph;                              ///< every factor (its nodes: `initial`)
   PoseGraph skeleton;                           ///< keyframes, places, objects; robust factors
   std::map<NodeId, NodeId> observed_by;         ///< control point -> keyframe that observed it
   std::map<NodeId, Eigen::Isometry3d> initial;  ///< global frame, before optimization
   NodeId anchor;                                ///< the root robot's first keyframe
   size_t robust_factors = 0, inter_robot_factors = 0;
   std::set<std::pair<NodeId, NodeId>> merge_factors;  ///< the robust factors that are merges
+  bool whole = true;  ///< false: assembled only as far as the skeleton (`graph` empty)
 };
 
 /// Assembles the deformation graph of the aligned robots. `frontend` holds every robot's nodes in
 /// its own frame; `inter_robot` and `merges` are robust factors between station ids. For a solve
-/// that stops at the skeleton (two_stage, final_iterations 0) `graph` is left empty: `initial`
-/// and `observed_by` still hold every node.
+/// that stops at the skeleton (two_stage, final_iterations 0) `graph` is left without factors:
+/// `initial` and `observed_by` still hold every node.
 DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
                                        const std::vector<RobotDeformationInput>& robots,
                                        const std::vector<PoseGraphEdge>& inter_robot,

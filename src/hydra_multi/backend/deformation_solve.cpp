@@ -112,15 +112,13 @@ void analyzeWholeGraphAhead(const DeformationGraph& graph, const PoseGraph& robu
     if (e.kind == PoseGraphEdge::Kind::kLoopClosure)
       expected[{e.from, e.to}] = !held_out[k] || graph.merge_factors.count({e.from, e.to}) != 0;
   }
-  std::map<NodeId, Eigen::Isometry3d> nodes = graph.initial;
-  for (const auto& [id, pose] : robust.poses) nodes.emplace(id, pose);
   RobustPgoOptions analyze = wholeGraphSolver(options);
   analyze.solver.max_iterations = 0;
   analyze.solver.linearization_threads = 1;
   analyze.solver.analyses = ahead;
   analyze.solver.keep_analysis = true;
   analyze.held_out = leftOut(graph, expected);
-  optimizePoseGraph(graph.graph, nodes, graph.anchor, analyze);
+  optimizePoseGraph(graph.graph, graph.initial, graph.anchor, analyze);
 }
 
 }  // namespace
@@ -132,6 +130,8 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
   DeformationResult result;
   if (graph.initial.empty()) return result;
   const PoseGraph& robust = options.two_stage ? graph.skeleton : graph.graph;
+  const std::map<NodeId, Eigen::Isometry3d>& robust_poses =
+      options.two_stage ? graph.skeleton.poses : graph.initial;
   RobustPgoOptions solver = options.solver;
   solver.held_out.assign(robust.edges.size(), false);
   if (warm != nullptr) {
@@ -153,7 +153,7 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
       solver.known_inlier[k] = true;
     }
   }
-  std::map<NodeId, Eigen::Isometry3d> initial_poses = robust.poses;
+  std::map<NodeId, Eigen::Isometry3d> initial_poses = robust_poses;
   if (warm != nullptr) {
     std::set<NodeId> unplaced;
     for (auto& [id, pose] : initial_poses) {

@@ -84,9 +84,12 @@ bool SceneGraph::removeNode(NodeId id) {
   auto it = nodes_.find(id);
   if (it == nodes_.end()) return false;
   index_.erase(id);
-  const std::set<NodeId> neighbours = adjacency_[id];
-  for (const NodeId other : neighbours) removeEdge(id, other);
-  adjacency_.erase(id);
+  const auto adjacent = adjacency_.find(id);
+  for (const NodeId other : adjacent->second) {
+    edges_.erase(EdgeKey(id, other));
+    adjacency_.at(other).erase(id);
+  }
+  adjacency_.erase(adjacent);
   if (const auto robot = it->second.robot()) {
     const auto of_robot = by_robot_.find(*robot);
     of_robot->second.erase(id);
