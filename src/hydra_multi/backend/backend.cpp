@@ -319,8 +319,8 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   if (incremental())
     report.robots_afresh = team.T_global_robot.size() - alignedAsBefore(team).size();
   const bool joint = options_.joint_optimization;
-  const std::vector<PoseGraphEdge> loop_closures =
-      joint ? inter_robot : std::vector<PoseGraphEdge>();
+  const std::vector<PoseGraphEdge> none;
+  const std::vector<PoseGraphEdge>& loop_closures = joint ? inter_robot : none;
   std::set<std::pair<NodeId, NodeId>> held_out = alignmentOutliers();
   Proposals proposals;
   if (options_.reconcile && joint)
