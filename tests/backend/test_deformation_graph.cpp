@@ -10,6 +10,7 @@
 #include <string>
 
 #include "hydra_multi/backend/deformation_graph.h"
+#include "hydra_multi/backend/optimized_map.h"
 #include "hydra_multi/core/se3.h"
 
 namespace hydra_multi {
@@ -550,6 +551,44 @@ TEST(DeformationGraph, AnObjectIsOfTheTimeOfItsVertices) {
   Node place = makeNode(NodeId('p', 0), Layer::kPlaces, Eigen::Vector3d::Zero());
   place.last_update_time_ns = 42 * kS;
   EXPECT_EQ(madeAtNs(place, &mesh), 42 * kS);
+}
+
+// The backend graph in two steps: unplaced, the frontend's nodes, edges and positions; placed,
+// keyframes at their solved poses, an object (no mesh) moved as its nearest control point of its
+// time, and a keyframe the poses lack gone with its edges.
+TEST(DeformationGraph, TheBackendGraphIsMadeUnplacedThenPlacedAtTheSolvedPoses) {
+  SceneGraph frontend;
+  Robot a = drive(RobotId(0), 0.0, 0.0, frontend);
+  Robot b = drive(RobotId(1), M_PI, 0.005, frontend);
+  Node object = makeNode(NodeId::station('O', b.id, 0), Layer::kObjects, b.odom[10].translation());
+  object.last_update_time_ns = 10 * 1000000000LL;
+  frontend.addOrUpdateNode(object);
+  for (size_t k = 1; k < 60; ++k) frontend.addOrUpdateEdge(keyframe(b, k - 1), keyframe(b, k));
+  const Eigen::Isometry3d T_global_b = a.truth.front().inverse() * b.truth.front();
+  const std::vector<RobotDeformationInput> inputs = twoRobots(a, b, T_global_b);
+  const DeformationGraph graph =
+      buildDeformationGraph(frontend, inputs, trueClosures(a, b), {}, {});
+  const DeformationResult result = optimizeDeformationGraph(graph);
+
+  SceneGraph map = unplacedMap(frontend, inputs, graph);
+  EXPECT_EQ(map.numNodes(), 121u);
+  EXPECT_EQ(map.numEdges(), 59u);
+  EXPECT_EQ(map.getNode(keyframe(b, 5)).position, frontend.getNode(keyframe(b, 5)).position);
+
+  std::map<NodeId, Eigen::Isometry3d> poses = result.poses;
+  poses.erase(keyframe(b, 59));
+  std::map<RobotId, Eigen::Isometry3d> first;
+  placeMap(map, frontend, inputs, graph, poses, {}, 4, &first);
+  EXPECT_FALSE(map.hasNode(keyframe(b, 59)));
+  EXPECT_EQ(map.numEdges(), 58u);
+  EXPECT_EQ(map.getNode(keyframe(b, 5)).position, result.poses.at(keyframe(b, 5)).translation());
+  EXPECT_TRUE(first.at(b.id).isApprox(result.poses.at(keyframe(b, 0))));
+  // The object rides with the control point of its keyframe (1 m beside it).
+  const NodeId cp = controlPointId(b.id, 10);
+  const Eigen::Vector3d expected =
+      result.poses.at(cp) * graph.initial.at(cp).inverse() * (T_global_b * object.position);
+  EXPECT_GT((expected - T_global_b * object.position).norm(), 0.05);
+  EXPECT_LT((map.getNode(object.id).position - expected).norm(), 1e-9);
 }
 
 // On a coarser grid, each voxel keeps the first control point the robot made in it, and the

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <future>
 #include <optional>
 #include <set>
 
@@ -373,6 +374,10 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
       }
     }
   }
+  // The backend graph's nodes, edges and mesh need no pose: made on a second thread meanwhile.
+  std::future<SceneGraph> unplaced = std::async(std::launch::async, [&frontend, &team, &graph] {
+    return unplacedMap(frontend, team.inputs, graph);
+  });
   const DeformationResult result = optimizeDeformationGraph(graph, options_.deformation, held_out,
                                                             warm.poses.empty() ? nullptr : &warm);
   report.verdicts_redecided += result.solve.known_contradicted;
@@ -391,8 +396,9 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   if (!incremental()) mesh_bindings_.clear();
   std::map<RobotId, MeshBinding> fresh;
   std::map<RobotId, MeshBinding>& bindings = incremental() ? mesh_bindings_ : fresh;
-  SceneGraph map = optimizedMap(frontend, team.inputs, graph, result.poses, options_.deformation,
-                                options_.mesh_neighbours, &optimized_first_keyframes_, &bindings);
+  SceneGraph map = unplaced.get();
+  placeMap(map, frontend, team.inputs, graph, result.poses, options_.deformation,
+           options_.mesh_neighbours, &optimized_first_keyframes_, &bindings);
   for (const auto& [robot, binding] : bindings) report.vertices_blended += binding.reblended;
   report.merges_proposed = proposals.candidates.size();
   MergeOutcome merged =

@@ -10,8 +10,8 @@
 //   3. the graph with the merge factors, held out in the same way, solved again (GNC on the
 //      skeleton, then the whole graph once), the loop closures taken as step 2 decided them
 //      (known inliers, or held out to be taken back where they fit);
-//   4. optimizedMap, the backend graph (optimized_map.h), and mergeKept, the merges GNC kept or
-//      none (node_merging.h);
+//   4. the backend graph (optimized_map.h: unplacedMap, made on a second thread while step 3
+//      solves, then placeMap), and mergeKept, the merges GNC kept or none (node_merging.h);
 //   5. rooms segmented over the optimized places (room_segmentation.h).
 // Robots not aligned yet are left out of the backend graph until they are. Incremental rounds
 // (BackendOptions::incremental) start GNC where the last round ended; a robot whose alignment

@@ -7,13 +7,8 @@
 
 namespace hydra_multi {
 
-SceneGraph optimizedMap(const SceneGraph& frontend,
-                        const std::vector<RobotDeformationInput>& robots,
-                        const DeformationGraph& deformation,
-                        const std::map<NodeId, Eigen::Isometry3d>& poses,
-                        const DeformationGraphOptions& options, size_t mesh_neighbours,
-                        std::map<RobotId, Eigen::Isometry3d>* first_keyframes,
-                        std::map<RobotId, MeshBinding>* bindings) {
+SceneGraph unplacedMap(const SceneGraph& frontend, const std::vector<RobotDeformationInput>& robots,
+                       const DeformationGraph& deformation) {
   SceneGraph graph;
   size_t vertices = 0, faces = 0;
   for (const RobotDeformationInput& robot : robots) {
@@ -23,6 +18,40 @@ SceneGraph optimizedMap(const SceneGraph& frontend,
   }
   graph.mesh().vertices.reserve(vertices);
   graph.mesh().faces.reserve(faces);
+  for (const RobotDeformationInput& robot : robots) {
+    const uint64_t vertex_offset = graph.mesh().vertices.size();
+    if (robot.mesh != nullptr) {
+      graph.mesh().vertices.insert(graph.mesh().vertices.end(), robot.mesh->vertices.begin(),
+                                   robot.mesh->vertices.end());
+      for (MeshFace f : robot.mesh->faces) {
+        for (uint32_t& i : f) i += static_cast<uint32_t>(vertex_offset);
+        graph.mesh().faces.push_back(f);
+      }
+    }
+    for (const NodeId id : frontend.nodesOfRobot(robot.robot)) {
+      const Node& node = frontend.getNode(id);
+      if (node.layer() == Layer::kAgents || node.layer() == Layer::kPlaces) {
+        if (deformation.initial.count(id) != 0) graph.addOrUpdateNode(node);
+      } else if (node.find<ObjectAttributes>() != nullptr) {
+        Node object = node;
+        for (uint64_t& v : object.find<ObjectAttributes>()->mesh_vertices) v += vertex_offset;
+        graph.addOrUpdateNode(std::move(object));
+      }  // rooms and buildings are the backend's own
+    }
+  }
+  for (const auto& [key, info] : frontend.edges()) {
+    if (graph.hasNode(key.first()) && graph.hasNode(key.second()))
+      graph.addOrUpdateEdge(key.first(), key.second(), info);
+  }
+  return graph;
+}
+
+void placeMap(SceneGraph& map, const SceneGraph& frontend,
+              const std::vector<RobotDeformationInput>& robots, const DeformationGraph& deformation,
+              const std::map<NodeId, Eigen::Isometry3d>& poses,
+              const DeformationGraphOptions& options, size_t mesh_neighbours,
+              std::map<RobotId, Eigen::Isometry3d>* first_keyframes,
+              std::map<RobotId, MeshBinding>* bindings) {
   if (first_keyframes != nullptr) first_keyframes->clear();
   if (bindings != nullptr) {
     // Robots no longer aligned leave.
@@ -32,6 +61,7 @@ SceneGraph optimizedMap(const SceneGraph& frontend,
       it = aligned ? std::next(it) : bindings->erase(it);
     }
   }
+  uint64_t vertex_offset = 0;
   for (const RobotDeformationInput& robot : robots) {
     const Eigen::Isometry3d& T = robot.T_global_robot;
     // Control points before and after, for the mesh and for objects without vertices.
@@ -53,7 +83,6 @@ SceneGraph optimizedMap(const SceneGraph& frontend,
     // The mesh: aligned, then deformed (bound in the robot's frame, kept when `bindings`); its
     // vertices' positions before (`aligned`) and after (`moved`).
     std::vector<Eigen::Vector3f> aligned, moved;
-    const uint64_t vertex_offset = graph.mesh().vertices.size();
     if (robot.mesh != nullptr) {
       aligned.reserve(robot.mesh->vertices.size());
       for (const MeshVertex& v : robot.mesh->vertices)
@@ -63,38 +92,38 @@ SceneGraph optimizedMap(const SceneGraph& frontend,
       bindMesh(binding, robot.mesh->vertices, cp_local, cp_times, options.link_max_dt_s,
                mesh_neighbours);
       moved = blendMesh(binding, aligned, cp_initial, cp_optimized);
-      for (size_t i = 0; i < moved.size(); ++i) {
-        graph.mesh().vertices.push_back(robot.mesh->vertices[i]);
-        graph.mesh().vertices.back().position = moved[i];
-      }
-      for (MeshFace f : robot.mesh->faces) {
-        for (uint32_t& i : f) i += static_cast<uint32_t>(vertex_offset);
-        graph.mesh().faces.push_back(f);
-      }
+      for (size_t i = 0; i < moved.size(); ++i)
+        map.mesh().vertices[vertex_offset + i].position = moved[i];
+      vertex_offset += robot.mesh->vertices.size();
     }
     std::vector<Eigen::Vector3d> cp_centres;
     for (const Eigen::Isometry3d& c : cp_initial) cp_centres.push_back(c.translation());
     const TimedNeighbors near_cp(cp_centres, cp_times, windowNs(options.link_max_dt_s));
     int64_t first_time = std::numeric_limits<int64_t>::max();
     for (const NodeId id : frontend.nodesOfRobot(robot.robot)) {
-      Node node = frontend.getNode(id);
-      if (node.layer() == Layer::kAgents || node.layer() == Layer::kPlaces) {
+      Node* placed = map.findMutableNode(id);
+      if (placed == nullptr) continue;  // rooms and buildings, nodes the deformation graph lacks
+      if (placed->layer() == Layer::kAgents || placed->layer() == Layer::kPlaces) {
         const auto pose = poses.find(id);
-        if (pose == poses.end()) continue;
-        node.position = pose->second.translation();
-        if (AgentAttributes* agent = node.find<AgentAttributes>()) {
+        if (pose == poses.end()) {
+          map.removeNode(id);
+          continue;
+        }
+        placed->position = pose->second.translation();
+        if (AgentAttributes* agent = placed->find<AgentAttributes>()) {
           agent->orientation = Eigen::Quaterniond(pose->second.linear()).normalized();
           if (agent->timestamp_ns < first_time) {
             first_time = agent->timestamp_ns;
             if (first_keyframes != nullptr) (*first_keyframes)[robot.robot] = pose->second;
           }
         }
-      } else if (ObjectAttributes* object = node.find<ObjectAttributes>()) {
+      } else if (ObjectAttributes* object = placed->find<ObjectAttributes>()) {
         // Moved as its mesh vertices moved, or as its nearest control point moved.
+        const Node& node = frontend.getNode(id);
         const Eigen::Vector3d aligned_position = T * node.position;
         Eigen::Vector3d shift = Eigen::Vector3d::Zero();
         size_t counted = 0;
-        for (const uint64_t v : object->mesh_vertices) {
+        for (const uint64_t v : node.find<ObjectAttributes>()->mesh_vertices) {
           if (v >= moved.size()) continue;
           shift += (moved[v] - aligned[v]).cast<double>();
           ++counted;
@@ -106,25 +135,16 @@ SceneGraph optimizedMap(const SceneGraph& frontend,
               near_cp.nearest(aligned_position, node.last_update_time_ns).front().index;
           shift = cp_optimized[c] * (cp_initial[c].inverse() * aligned_position) - aligned_position;
         }
-        node.position = aligned_position + shift;
+        placed->position = aligned_position + shift;
         if (object->semantic.bounding_box) {
           const Eigen::Vector3d half =
               0.5 * (object->semantic.bounding_box->max - object->semantic.bounding_box->min);
-          object->semantic.bounding_box = BoundingBox{node.position - half, node.position + half};
+          object->semantic.bounding_box =
+              BoundingBox{placed->position - half, placed->position + half};
         }
-        for (uint64_t& v : object->mesh_vertices) v += vertex_offset;
-      } else {
-        continue;  // rooms and buildings are the backend's own
       }
-      graph.addOrUpdateNode(std::move(node));
     }
   }
-  for (const auto& [key, info] : frontend.edges()) {
-    if (graph.hasNode(key.first()) && graph.hasNode(key.second()))
-      graph.addOrUpdateEdge(key.first(), key.second(), info);
-  }
-
-  return graph;
 }
 
 }  // namespace hydra_multi

@@ -5,6 +5,9 @@
 // moved, or, without vertices, as their nearest control point of about their time moved, their
 // boxes with them; its edges as the frontend has them. The robots' meshes are appended in order,
 // object vertex indices offset accordingly. Rooms and buildings are left to room segmentation.
+// Made in two steps: its nodes, edges and mesh as the frontend has them (unplacedMap, which needs
+// no pose, so the backend makes it while the deformation graph is solved), then placed
+// (placeMap).
 
 #include <map>
 #include <vector>
@@ -14,16 +17,23 @@
 
 namespace hydra_multi {
 
-/// `robots`: the aligned robots as the deformation graph took them; `deformation` and `poses`: the
-/// deformation graph and its optimized poses. `first_keyframes` (when given) receives each
-/// robot's first keyframe's optimized pose. `bindings` (when given) holds each robot's mesh as
-/// bound and blended by the last call, read and updated (MeshBinding: the same result as without).
-SceneGraph optimizedMap(const SceneGraph& frontend,
-                        const std::vector<RobotDeformationInput>& robots,
-                        const DeformationGraph& deformation,
-                        const std::map<NodeId, Eigen::Isometry3d>& poses,
-                        const DeformationGraphOptions& options, size_t mesh_neighbours,
-                        std::map<RobotId, Eigen::Isometry3d>* first_keyframes = nullptr,
-                        std::map<RobotId, MeshBinding>* bindings = nullptr);
+/// `robots`: the aligned robots as the deformation graph `deformation` took them. Their
+/// keyframes and places that `deformation` holds, their objects (mesh vertex indices offset), the
+/// frontend's edges between these, and their meshes appended in order, all as the frontend has
+/// them.
+SceneGraph unplacedMap(const SceneGraph& frontend, const std::vector<RobotDeformationInput>& robots,
+                       const DeformationGraph& deformation);
+
+/// Places `map` (unplacedMap of the same frontend, robots and deformation graph) at the
+/// deformation graph's optimized `poses`; a keyframe or place without one leaves. `first_keyframes`
+/// (when given) receives each robot's first keyframe's optimized pose. `bindings` (when given)
+/// holds each robot's mesh as bound and blended by the last call, read and updated (MeshBinding:
+/// the same result as without).
+void placeMap(SceneGraph& map, const SceneGraph& frontend,
+              const std::vector<RobotDeformationInput>& robots, const DeformationGraph& deformation,
+              const std::map<NodeId, Eigen::Isometry3d>& poses,
+              const DeformationGraphOptions& options, size_t mesh_neighbours,
+              std::map<RobotId, Eigen::Isometry3d>* first_keyframes = nullptr,
+              std::map<RobotId, MeshBinding>* bindings = nullptr);
 
 }  // namespace hydra_multi
