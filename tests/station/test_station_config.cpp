@@ -15,7 +15,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_EQ(options.backend.deformation.solver.solver.linearization_threads, 2);
   EXPECT_EQ(options.backend.reconciliation.icp_threads, 2);
   EXPECT_TRUE(options.backend.deformation.whole_graph_analysis_ahead);
-  EXPECT_EQ(options.keep_freed_mb, 256u);
+  EXPECT_EQ(options.keep_freed_mb, 1024u);
   const Status s = applyStationConfig(R"({
       "loop_closures": {"object_ambiguity_ratio": 0, "object_rival_distance": 2.5,
                         "anchor_objects": false},
