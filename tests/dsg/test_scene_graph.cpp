@@ -126,8 +126,9 @@ TEST(SceneGraph, MergeAndUndo) {
   EXPECT_FALSE(g.undoMerge(record).ok());
 }
 
-// The per-robot and per-layer queries answer what a pass over every node answers, through adds,
-// removals, merges and their undo, and in a copy.
+// The per-robot and per-layer queries answer what a pass over every node answers, and every edge is
+// found as the graph's own, through adds, removals, merges and their undo, in a copy and after a
+// move (removals there go through the index the copy or the move left).
 TEST(SceneGraph, RobotAndLayerQueriesFollowEveryChange) {
   const auto check = [](const SceneGraph& g) {
     std::map<RobotId, std::vector<NodeId>> of_robot;
@@ -141,6 +142,11 @@ TEST(SceneGraph, RobotAndLayerQueriesFollowEveryChange) {
         of_robot_in_layer[{*robot, node.layer()}].push_back(id);
       }
       in_layer[node.layer()].push_back(id);
+    }
+    for (const auto& [key, info] : g.edges()) {
+      EXPECT_EQ(g.findEdge(key.second(), key.first()), &info);
+      EXPECT_TRUE(g.hasEdge(key.first(), key.second()));
+      EXPECT_TRUE(g.findNode(key.first()) && g.findNode(key.second()));
     }
     for (const char prefix : {'a', 'b', 'c'}) {
       const RobotId robot = *RobotId::fromPrefix(prefix);
@@ -186,6 +192,26 @@ TEST(SceneGraph, RobotAndLayerQueriesFollowEveryChange) {
   check(assigned);
   EXPECT_FALSE(assigned.findNode(NodeId('c', 3)));
   EXPECT_EQ(assigned, copy);
+  const auto remove_some = [](SceneGraph& graph, size_t every) {
+    std::vector<NodeId> ids;
+    for (const auto& [id, node] : graph.nodes()) ids.push_back(id);
+    size_t removed = 0;
+    for (size_t i = 0; i < ids.size(); i += every) removed += graph.removeNode(ids[i]);
+    return removed;
+  };
+  ASSERT_GT(remove_some(assigned, 3), 0u);
+  check(assigned);
+  check(copy);
+  EXPECT_NE(assigned, copy);
+  SceneGraph moved = std::move(assigned);
+  ASSERT_GT(remove_some(moved, 2), 0u);
+  check(moved);
+  ASSERT_FALSE(moved.nodes().empty());
+  const NodeId first = moved.nodes().begin()->first;
+  const size_t edges = moved.numEdges(), its_edges = moved.adjacent(first).size();
+  EXPECT_TRUE(moved.removeNode(first));
+  EXPECT_EQ(moved.numEdges(), edges - its_edges);
+  check(moved);
 }
 
 // The source's children move to the target, and go back on undo.
