@@ -2,10 +2,10 @@
 // the final graph's size, the backend's time per round (median, max while the robots mapped; the
 // last round, from scratch on the final state, apart) and per stage (the last
 // round's, and each stage's share of all rounds; and so for the time in its pose-graph solves,
-// their factorizations and analyses), the frontend's time per update, the peak memory
-// and the accuracy; and a plot of every round's backend time against the deformation graph's
-// poses, one colour per team; then which of issue 22's targets the teams that have one meet (a
-// team known by the dataset in its run's inputs.json: office-3 seed 1, 10 robots at scale 2, 20
+// their factorizations and analyses), the frontend's time per update, the peak memory (and
+// per robot) and the accuracy; and a plot of every round's backend time against the deformation
+// graph's poses, one colour per team; then which of issue 22's targets the teams that have one meet
+// (a team known by the dataset in its run's inputs.json: office-3 seed 1, 10 robots at scale 2, 20
 // at scale 3). Build in Release (`make bench-scale` runs the teams first).
 //
 //   bench_scale OUT.svg LABEL=RUN_DIR [LABEL=RUN_DIR ...]
@@ -120,7 +120,7 @@ int main(int argc, char** argv) {
   std::printf(
       "| team | robots aligned | final poses / factors / nodes | backend rounds | round median "
       "/ max (s) | last round, from scratch (s) | frontend per update median / max (ms) | peak "
-      "memory (MB) | ATE (m) | objects found (%%) |\n"
+      "memory (MB), per robot | ATE (m) | objects found (%%) |\n"
       "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
   for (const Team& t : teams) {
     // The rounds while the robots mapped; the last, from scratch, apart.
@@ -132,14 +132,15 @@ int main(int argc, char** argv) {
     char last_s[32] = "-";
     if (last.from_scratch) std::snprintf(last_s, sizeof(last_s), "%.2f", last.ms / 1e3);
     std::printf(
-        "| %s | %.0f of %.0f | %.0f / %.0f / %.0f | %zu | %.2f / %.2f | %s | %.1f / %.1f | %.0f | "
-        "%.3f | %.1f |\n",
+        "| %s | %.0f of %.0f | %.0f / %.0f / %.0f | %zu | %.2f / %.2f | %s | %.1f / %.1f | %.0f, "
+        "%.0f | %.3f | %.1f |\n",
         t.label.c_str(), number(t.metrics, "robots_aligned"), number(t.metrics, "robots"),
         last.poses, last.factors, last.nodes, t.rounds.size(), median(ms) / 1e3,
         *std::max_element(ms.begin(), ms.end()) / 1e3, last_s, median(t.frontend_ms),
         t.frontend_ms.empty() ? 0.0 : *std::max_element(t.frontend_ms.begin(), t.frontend_ms.end()),
-        number(t.metrics, "peak_memory_mb"), number(t.metrics, "ate_rmse_m"),
-        number(t.metrics, "objects_found_pct"));
+        number(t.metrics, "peak_memory_mb"),
+        number(t.metrics, "peak_memory_mb") / std::max(1.0, number(t.metrics, "robots")),
+        number(t.metrics, "ate_rmse_m"), number(t.metrics, "objects_found_pct"));
   }
   std::printf(
       "\nWhere the backend's time went: the last round's stages in s, and (in brackets) each "
