@@ -103,6 +103,7 @@ TEST_F(TinyTeam, FullRound) {
   EXPECT_LE(report.solver_time.factorization_s, report.solver_time.solve_s);
   EXPECT_GT(report.solver_time.analysis_s, 0.0);
   EXPECT_LT(report.solver_time.solve_s + report.solver_time.analysis_s, report.time_s);
+  EXPECT_GE(report.solver_time.iterations, report.solves);  // every solve here takes a step
 
   const SceneGraphScore score = evaluateSceneGraph(backend.graph(), *truth_);
   EXPECT_EQ(score.matched_keyframes,

@@ -70,14 +70,17 @@ struct SolveSummary {
 /// numeric factorizations, and in the analyses of the problems' patterns before them.
 struct SolverTime {
   double solve_s = 0.0, factorization_s = 0.0, analysis_s = 0.0;
+  int iterations = 0;  ///< Levenberg-Marquardt iterations (steps tried)
   SolverTime& operator+=(const SolveSummary& s) {
     solve_s += s.time_s;
+    iterations += s.iterations;
     factorization_s += s.factorization_s;
     analysis_s += s.analysis_s;
     return *this;
   }
   SolverTime& operator+=(const SolverTime& o) {
     solve_s += o.solve_s;
+    iterations += o.iterations;
     factorization_s += o.factorization_s;
     analysis_s += o.analysis_s;
     return *this;
