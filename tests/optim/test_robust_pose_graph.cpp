@@ -173,10 +173,7 @@ TEST(RobustPoseGraph, ReadmissionStartsWhereTheEarlierOneEnded) {
   EXPECT_EQ(again.edge_inlier, r.first.edge_inlier);
   EXPECT_EQ(r.plain.edge_inlier, r.first.edge_inlier);
   EXPECT_NEAR(again.final_cost, r.first.final_cost, 1e-6 * r.first.final_cost);
-  EXPECT_LT(again.solver_iterations, r.plain.solver_iterations);
-  // The solves' time is summed over the same solves as their iterations.
-  EXPECT_EQ(again.solver_time.iterations, again.solver_iterations);
-  EXPECT_EQ(r.plain.solver_time.iterations, r.plain.solver_iterations);
+  EXPECT_LT(again.solver_time.iterations, r.plain.solver_time.iterations);
   double apart = 0.0;  // the same optimum, to the solver's tolerance
   for (const auto& [id, pose] : r.first.poses)
     apart = std::max(apart, (again.poses.at(id).translation() - pose.translation()).norm());
@@ -196,7 +193,7 @@ TEST(RobustPoseGraph, ReadmissionKeepsItsOwnSolutionWhereTheEarlierOneFitsWorse)
   const RobustPgoResult again = optimizePoseGraph(r.g.graph, r.start, r.anchor, earlier);
   EXPECT_EQ(again.edge_inlier, r.plain.edge_inlier);
   EXPECT_NEAR(again.final_cost, r.plain.final_cost, 1e-6 * r.plain.final_cost);
-  EXPECT_EQ(again.solver_iterations, r.plain.solver_iterations);
+  EXPECT_EQ(again.solver_time.iterations, r.plain.solver_time.iterations);
 }
 
 // Poses with one known-inlier edge (a place tied to its keyframe) are solved after the rest: the

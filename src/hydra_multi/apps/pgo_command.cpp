@@ -264,7 +264,7 @@ int runPgo(const PgoOptions& o) {
   const RobustPgoResult result = optimizePoseGraph(graph, initial, anchor, options);
   if (!result.usable) return fail("pgo: the solver failed: " + result.message);
   progress("done in " + std::to_string(result.time_s) + " s, " + std::to_string(result.solves) +
-           " solve(s), " + std::to_string(result.solver_iterations) + " iterations" +
+           " solve(s), " + std::to_string(result.solver_time.iterations) + " iterations" +
            (robust ? ", GNC stopped: " + result.gnc.stop_reason : ""));
 
   // Evaluation.
@@ -320,7 +320,7 @@ int runPgo(const PgoOptions& o) {
   j["robust"] = o.robust;
   j["cost"] = result.final_cost;
   j["sesync_cost"] = sesync ? Json(sesync.value()) : Json(nullptr);
-  j["iterations"] = result.solver_iterations;
+  j["iterations"] = result.solver_time.iterations;
   j["gnc_iterations"] = result.gnc.iterations;
   j["init_time_s"] = init_time;
   j["time_s"] = result.time_s;

@@ -126,7 +126,6 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
 
   // Every solve counts into the result's totals; the last one's report stays.
   const auto record = [&result](const SolveSummary& summary) {
-    result.solver_iterations += summary.iterations;
     ++result.solves;
     result.solver_time += summary;
     result.final_cost = summary.final_cost;
@@ -329,7 +328,6 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
   // The interiors sit at the first-order optimum; the solve over the inliers makes it exact.
   const SolveSummary summary =
       solveOverInliers(graph, result.edge_inlier, result.poses, anchor, options);
-  result.solver_iterations += summary.iterations;
   ++result.solves;
   result.solver_time += summary;
   result.final_cost = summary.final_cost;

@@ -84,9 +84,8 @@ struct RobustPgoResult {
   /// The solution of the first polish (rejected and held-out factors at weight 0) when loop
   /// closures that fit it were re-admitted after it; empty otherwise.
   std::map<NodeId, Eigen::Isometry3d> held_out_poses;
-  int solver_iterations = 0;  ///< Levenberg-Marquardt iterations over all solves
   int solves = 0;
-  SolverTime solver_time;         ///< over all solves
+  SolverTime solver_time;         ///< over all solves (their time and iterations)
   size_t known_contradicted = 0;  ///< known inliers GNC had to decide again (known_inlier)
   double final_cost = 0.0;        ///< Ceres cost of the last solve (weighted)
   double time_s = 0.0;
