@@ -229,6 +229,131 @@ TEST_F(TinyTeam, IncrementalRoundsAgreeWithRoundsFromScratch) {
   EXPECT_LT(a, 0.3);
 }
 
+// The merges made while the whole graph is solved, their positions fused once the graph is placed
+// (BackendOptions::merge_while_solving), give the graph that merges made after placing give, to
+// the bit, round after round; with label votes, whose merges follow the others, too.
+TEST_F(TinyTeam, MergesMadeWhileSolvingGiveTheSameGraph) {
+  const std::vector<RobotUpdate> updates = updatesInTimeOrder();
+  BackendOptions during = options();
+  during.reconciliation.label_votes = true;
+  during.reconciliation.label_min_odds = 1.0;
+  BackendOptions after = during;
+  after.merge_while_solving = false;
+  Backend a(during), b(after);
+  SceneGraphProcessor processor;
+  LoopClosureDetector detector;
+  size_t rounds = 0, merged = 0, label_merges = 0;
+  const auto round = [&] {
+    const std::vector<BackendRobot> team = teamOf(processor);
+    const std::vector<PoseGraphEdge> inter = interRobotEdges(detector.loopClosures());
+    const BackendRoundReport ra = a.round(processor.graph(), team, inter, RobotId(0));
+    const BackendRoundReport rb = b.round(processor.graph(), team, inter, RobotId(0));
+    ++rounds;
+    merged += ra.merges_accepted;
+    label_merges += ra.label_merges;
+    EXPECT_EQ(ra.merges_accepted, rb.merges_accepted) << "round " << rounds;
+    EXPECT_EQ(ra.label_merges, rb.label_merges) << "round " << rounds;
+    EXPECT_TRUE(a.graph() == b.graph()) << "round " << rounds;
+    ASSERT_EQ(a.merges().size(), b.merges().size()) << "round " << rounds;
+    for (size_t i = 0; i < a.merges().size(); ++i) {
+      const AcceptedMerge &x = a.merges()[i], &y = b.merges()[i];
+      EXPECT_EQ(x.target, y.target);
+      EXPECT_EQ(x.source, y.source);
+      EXPECT_EQ(x.target_optimized, y.target_optimized) << x.source.str();
+      EXPECT_EQ(x.source_optimized, y.source_optimized) << x.source.str();
+      EXPECT_EQ(x.target_side.keyframe_stamp_ns, y.target_side.keyframe_stamp_ns);
+      EXPECT_EQ(x.source_side.position, y.source_side.position);
+    }
+  };
+  for (size_t i = 0; i < updates.size(); ++i) {
+    const UpdateReport report = processor.process(updates[i]);
+    detector.update(processor, report.new_keyframes);
+    if (i % 10 == 9) round();
+  }
+  detector.flush(processor);
+  round();
+  EXPECT_GE(rounds, 3u);
+  EXPECT_GT(merged, 10u);
+  EXPECT_GT(label_merges, 0u);
+}
+
+// Merges planned in a graph before it is placed, then given the nodes' placements, make what
+// merging the placed graph makes: chained merges fuse in order (a node merged into one that is
+// merged on), a missing box takes the other's, a candidate GNC rejected or whose node is gone
+// is not made, edges move as mergeNodes moves them.
+TEST(MergePlan, PlacedAfterMakesWhatMergingThePlacedGraphMakes) {
+  const RobotId a(0), b(1), c(2);
+  SceneGraph placed;
+  const auto add = [&placed](NodeId id, Layer layer, const Eigen::Vector3d& at, double half) {
+    Node node = makeNode(id, layer, at);
+    if (half > 0.0)
+      node.semantic()->bounding_box =
+          BoundingBox{at - Eigen::Vector3d::Constant(half), at + Eigen::Vector3d::Constant(half)};
+    placed.addOrUpdateNode(node);
+  };
+  const NodeId pa = NodeId::station('p', a, 0), pb = NodeId::station('p', b, 0),
+               pc = NodeId::station('p', c, 0), pc1 = NodeId::station('p', c, 1);
+  const NodeId oa = NodeId::station('O', a, 0), ob = NodeId::station('O', b, 0),
+               oc = NodeId::station('O', c, 0);
+  add(pa, Layer::kPlaces, {0.0, 0.0, 0.0}, 0.0);
+  add(pb, Layer::kPlaces, {0.2, 0.0, 0.0}, 0.0);
+  add(pc, Layer::kPlaces, {0.0, 0.3, 0.0}, 0.0);
+  add(pc1, Layer::kPlaces, {2.0, 0.0, 0.0}, 0.0);
+  add(oa, Layer::kObjects, {1.0, 1.0, 0.0}, 0.0);  // no box
+  add(ob, Layer::kObjects, {1.1, 1.0, 0.0}, 0.2);
+  add(oc, Layer::kObjects, {1.0, 1.2, 0.0}, 0.3);
+  placed.addOrUpdateEdge(pa, oa);
+  placed.addOrUpdateEdge(pb, ob);
+  placed.addOrUpdateEdge(pc1, oc);
+  placed.addOrUpdateEdge(pb, pc1);
+  // b into a, then c into b (gone: not made), c into a, and objects b into c, c into a; pc1 into
+  // pa rejected.
+  const std::vector<MergeCandidate> candidates = {
+      {pa, pb, Layer::kPlaces},  {pb, pc, Layer::kPlaces},  {pa, pc, Layer::kPlaces},
+      {oc, ob, Layer::kObjects}, {oa, oc, Layer::kObjects}, {pa, pc1, Layer::kPlaces}};
+  std::map<std::pair<NodeId, NodeId>, bool> kept;
+  for (const MergeCandidate& m : candidates) kept[{m.target, m.source}] = m.source != pc1;
+  // The same graph before placing: the merged nodes elsewhere, with other boxes (placeMap places
+  // the others).
+  SceneGraph unplaced = placed;
+  for (const NodeId id : {pa, pb, pc, oa, ob, oc}) {
+    Node& node = *unplaced.findMutableNode(id);
+    node.position += Eigen::Vector3d(5.0, -3.0, 1.0);
+    if (id == oa) node.semantic()->bounding_box = BoundingBox{};
+  }
+  const SceneGraph frontend;
+  const ReconciliationOptions options;
+  MergePlan plan = planMerges(unplaced, frontend, candidates, keptCandidates(candidates, kept), {},
+                              10.0, options);
+  std::map<NodeId, Placement> placements = mergedNodes(plan);
+  EXPECT_EQ(placements.size(), 6u);  // every node merged but pc1, rejected
+  for (auto& [id, placement] : placements)
+    placement = {placed.getNode(id).position, placed.getNode(id).semantic()->bounding_box};
+  const MergeOutcome direct = mergeKept(placed, frontend, candidates, kept, {}, options, 10.0);
+  const MergeOutcome after =
+      placeMerged(unplaced, std::move(plan), std::move(placements), frontend, {}, options, 10.0);
+
+  EXPECT_TRUE(unplaced == placed);
+  EXPECT_EQ(direct.accepted, 4u);
+  EXPECT_EQ(after.accepted, 4u);
+  ASSERT_EQ(after.merges.size(), direct.merges.size());
+  for (size_t i = 0; i < after.merges.size(); ++i) {
+    EXPECT_EQ(after.merges[i].source, direct.merges[i].source);
+    EXPECT_EQ(after.merges[i].target_optimized, direct.merges[i].target_optimized);
+    EXPECT_EQ(after.merges[i].source_optimized, direct.merges[i].source_optimized);
+  }
+  // pc into pa after pb: pa is (pa + pb) / 2 averaged with pc; oa, without a box, takes oc's,
+  // which took ob's.
+  EXPECT_TRUE(placed.getNode(pa).position.isApprox(Eigen::Vector3d(0.05, 0.15, 0.0)));
+  EXPECT_EQ(direct.merges[1].target_optimized, Eigen::Vector3d(0.1, 0.0, 0.0));
+  const BoundingBox box = *placed.getNode(oa).semantic()->bounding_box;
+  EXPECT_TRUE(box.min.isApprox(Eigen::Vector3d(0.7, 0.8, -0.3)));
+  EXPECT_TRUE(box.max.isApprox(Eigen::Vector3d(1.3, 1.5, 0.3)));
+  EXPECT_FALSE(placed.hasNode(pb));
+  EXPECT_TRUE(placed.hasNode(pc1));
+  EXPECT_TRUE(placed.hasEdge(pa, pc1));  // pb's edge moved to pa
+}
+
 // A robot new or re-aligned since the last round starts afresh: the round takes none of the last
 // round's verdicts that touch it, and reports it. With a re-alignment threshold of 0, robot b is
 // re-aligned every round its estimate and its optimized start differ; with the default, once

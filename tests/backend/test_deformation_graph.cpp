@@ -178,8 +178,17 @@ TEST(DeformationGraph, TheWholeGraphAnalysisMadeAheadIsTakenWhereGncKeptWhatItEx
                          bool expect_ahead, const char* what) {
     const std::vector<PoseGraphEdge> these(inter.begin(), inter.begin() + closures);
     const DeformationGraph graph = buildDeformationGraph(frontend, inputs, these, {}, ahead);
-    const DeformationResult with = optimizeDeformationGraph(graph, ahead, held_out);
+    int calls = 0;
+    RobustVerdicts decided;
+    const DeformationResult with =
+        optimizeDeformationGraph(graph, ahead, held_out, nullptr, [&](const RobustVerdicts& v) {
+          ++calls;
+          decided = v;
+        });
     const DeformationResult without = optimizeDeformationGraph(graph, own, held_out);
+    // The verdicts handed on as GNC decided them are the result's.
+    EXPECT_EQ(calls, 1) << what;
+    EXPECT_EQ(decided, with.robust_inlier) << what;
     EXPECT_EQ(with.whole_graph_analyzed_ahead, expect_ahead) << what;
     EXPECT_FALSE(without.whole_graph_analyzed_ahead) << what;
     EXPECT_EQ(with.robust_inlier, without.robust_inlier) << what;
@@ -578,7 +587,15 @@ TEST(DeformationGraph, TheBackendGraphIsMadeUnplacedThenPlacedAtTheSolvedPoses) 
   std::map<NodeId, Eigen::Isometry3d> poses = result.poses;
   poses.erase(keyframe(b, 59));
   std::map<RobotId, Eigen::Isometry3d> first;
+  // The placements asked for are given also for a node the map no longer holds (merged away).
+  SceneGraph merged_away = map;
+  merged_away.removeNode(object.id);
+  std::map<NodeId, Placement> placements = {{object.id, {}}, {keyframe(b, 5), {}}};
+  placeMap(merged_away, frontend, inputs, graph, poses, {}, 4, nullptr, nullptr, &placements);
   placeMap(map, frontend, inputs, graph, poses, {}, 4, &first);
+  EXPECT_EQ(placements.at(object.id).position, map.getNode(object.id).position);
+  EXPECT_EQ(placements.at(keyframe(b, 5)).position, map.getNode(keyframe(b, 5)).position);
+  EXPECT_EQ(merged_away.getNode(keyframe(b, 5)).position, map.getNode(keyframe(b, 5)).position);
   EXPECT_FALSE(map.hasNode(keyframe(b, 59)));
   EXPECT_EQ(map.numEdges(), 58u);
   EXPECT_EQ(map.getNode(keyframe(b, 5)).position, result.poses.at(keyframe(b, 5)).translation());

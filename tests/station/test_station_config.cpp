@@ -12,6 +12,7 @@ TEST(StationConfig, KeysSetOptions) {
   StationOptions options;
   EXPECT_FALSE(options.backend.deformation.solver.reduce_chains);  // the station's defaults
   EXPECT_TRUE(options.backend.admit_fitting_merges);
+  EXPECT_TRUE(options.backend.merge_while_solving);
   EXPECT_EQ(options.backend.deformation.solver.solver.linearization_threads, 2);
   EXPECT_EQ(options.backend.reconciliation.icp_threads, 2);
   EXPECT_TRUE(options.backend.deformation.whole_graph_analysis_ahead);
@@ -27,6 +28,7 @@ TEST(StationConfig, KeysSetOptions) {
                       "chain_min_share": 0.5, "linearization_threads": 1,
                       "whole_graph_analysis_ahead": false},
       "reconciliation": {"enabled": false, "admit_fitting_merges": false,
+                         "merge_while_solving": false,
                          "place_max_distance": 0.6, "label_votes": true, "icp_threads": 3,
                          "label_confusion": 0.2, "label_min_odds": 2},
       "rooms": {"enabled": false, "min_room_places": 4, "threshold_rule": "most",
@@ -58,6 +60,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_EQ(options.backend.reconciliation.icp_threads, 3);
   EXPECT_FALSE(options.backend.reconcile);
   EXPECT_FALSE(options.backend.admit_fitting_merges);
+  EXPECT_FALSE(options.backend.merge_while_solving);
   EXPECT_DOUBLE_EQ(options.backend.reconciliation.place_max_distance, 0.6);
   EXPECT_TRUE(options.backend.reconciliation.label_votes);
   EXPECT_DOUBLE_EQ(options.backend.reconciliation.label_confusion, 0.2);

@@ -58,6 +58,13 @@ SolvedNodes solvedNodes(const SceneGraph& frontend,
   return nodes;
 }
 
+// Whether `poses` holds a pose for every node of `initial`.
+bool posedEverywhere(const std::map<NodeId, Eigen::Isometry3d>& poses,
+                     const std::map<NodeId, Eigen::Isometry3d>& initial) {
+  return std::includes(poses.begin(), poses.end(), initial.begin(), initial.end(),
+                       [](const auto& a, const auto& b) { return a.first < b.first; });
+}
+
 bool sameTransform(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
   return (a.matrix() - b.matrix()).cwiseAbs().maxCoeff() < 1e-9;
 }
@@ -374,12 +381,27 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
       }
     }
   }
-  // The backend graph's nodes, edges and mesh need no pose: made on a second thread meanwhile.
+  // The backend graph's nodes, edges and mesh need no pose: made on a second thread meanwhile, and
+  // the merges GNC kept made in it there too, once GNC has decided them, while the whole graph is
+  // solved (planMerges; their positions fused once the graph is placed, placeMerged).
   std::future<SceneGraph> unplaced = std::async(std::launch::async, [&frontend, &team, &graph] {
     return unplacedMap(frontend, team.inputs, graph);
   });
-  const DeformationResult result = optimizeDeformationGraph(graph, options_.deformation, held_out,
-                                                            warm.poses.empty() ? nullptr : &warm);
+  std::future<std::pair<SceneGraph, MergePlan>> planned;
+  const double window_s = options_.deformation.link_max_dt_s;
+  const auto planWhenDecided = [&](const RobustVerdicts& verdicts) {
+    planned =
+        std::async(std::launch::async, [&, kept = keptCandidates(proposals.candidates, verdicts)] {
+          SceneGraph map = unplaced.get();
+          MergePlan plan = planMerges(map, frontend, proposals.candidates, kept, team.meshes,
+                                      window_s, options_.reconciliation);
+          return std::make_pair(std::move(map), std::move(plan));
+        });
+  };
+  const DeformationResult result = optimizeDeformationGraph(
+      graph, options_.deformation, held_out, warm.poses.empty() ? nullptr : &warm,
+      options_.merge_while_solving ? std::function<void(const RobustVerdicts&)>(planWhenDecided)
+                                   : nullptr);
   report.verdicts_redecided += result.solve.known_contradicted;
   report.merges_admitted = result.admitted;
   report.solves += result.solve.solves + (result.whole_graph_free > 0 ? 1 : 0);
@@ -396,14 +418,32 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   if (!incremental()) mesh_bindings_.clear();
   std::map<RobotId, MeshBinding> fresh;
   std::map<RobotId, MeshBinding>& bindings = incremental() ? mesh_bindings_ : fresh;
-  SceneGraph map = unplaced.get();
+  // A keyframe or place without a pose leaves the graph before any merge (placeMap), so where one
+  // lacks it the merges are made again after (mergeKept).
+  SceneGraph map;
+  std::optional<MergePlan> plan;
+  if (planned.valid()) {
+    auto [merged_map, made] = planned.get();
+    if (posedEverywhere(result.poses, graph.initial)) {
+      map = std::move(merged_map);
+      plan = std::move(made);
+    } else {
+      map = unplacedMap(frontend, team.inputs, graph);
+    }
+  } else {
+    map = unplaced.get();
+  }
+  std::map<NodeId, Placement> placements;
+  if (plan) placements = mergedNodes(*plan);
   placeMap(map, frontend, team.inputs, graph, result.poses, options_.deformation,
-           options_.mesh_neighbours, &optimized_first_keyframes_, &bindings);
+           options_.mesh_neighbours, &optimized_first_keyframes_, &bindings,
+           plan ? &placements : nullptr);
   for (const auto& [robot, binding] : bindings) report.vertices_blended += binding.reblended;
   report.merges_proposed = proposals.candidates.size();
-  MergeOutcome merged =
-      mergeKept(map, frontend, proposals.candidates, result.robust_inlier, team.meshes,
-                options_.reconciliation, options_.deformation.link_max_dt_s);
+  MergeOutcome merged = plan ? placeMerged(map, std::move(*plan), std::move(placements), frontend,
+                                           team.meshes, options_.reconciliation, window_s)
+                             : mergeKept(map, frontend, proposals.candidates, result.robust_inlier,
+                                         team.meshes, options_.reconciliation, window_s);
   merges_ = std::move(merged.merges);
   report.merges_accepted = merged.accepted;
   report.merges_undone = merged.undone;

@@ -11,7 +11,8 @@
 //      skeleton, then the whole graph once), the loop closures taken as step 2 decided them
 //      (known inliers, or held out to be taken back where they fit);
 //   4. the backend graph (optimized_map.h: unplacedMap, made on a second thread while step 3
-//      solves, then placeMap), and mergeKept, the merges GNC kept or none (node_merging.h);
+//      solves, then placeMap), and the merges GNC kept or none (node_merging.h), made in it on
+//      that thread while the whole graph is solved, their positions fused once it is placed;
 //   5. rooms segmented over the optimized places (room_segmentation.h).
 // Robots not aligned yet are left out of the backend graph until they are. Incremental rounds
 // (BackendOptions::incremental) start GNC where the last round ended; a robot whose alignment
@@ -78,6 +79,10 @@ struct BackendOptions {
   /// out, so no solve is spent without it; the solve still decides again a known inlier its
   /// result contradicts (RobustPgoOptions::known_inlier). The others stay held out.
   bool admit_fitting_merges = true;
+  /// The merges GNC kept made in the backend graph on a second thread while the whole graph is
+  /// solved (planMerges), their nodes' positions and boxes fused once the graph is placed
+  /// (placeMerged); false: made after placing (mergeKept). The same graph either way.
+  bool merge_while_solving = true;
 };
 
 struct BackendRoundReport {

@@ -24,6 +24,7 @@
 //
 // After the solve, the mesh moves with its control points (mesh_deformation.h).
 
+#include <functional>
 #include <map>
 #include <set>
 #include <vector>
@@ -169,10 +170,14 @@ struct DeformationWarmStart {
 
 /// `held_out`: robust factors (from, to) GNC starts without, taken back only if they fit its
 /// result (RobustPgoOptions::held_out), whatever `warm` says of them (but admit_if_fitting).
-DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
-                                           const DeformationGraphOptions& options = {},
-                                           const std::set<std::pair<NodeId, NodeId>>& held_out = {},
-                                           const DeformationWarmStart* warm = nullptr);
+/// `decided` (when given) is called with the result's robust_inlier as soon as GNC has decided
+/// them, before the whole graph is solved; the result's are the same.
+using RobustVerdicts = std::map<std::pair<NodeId, NodeId>, bool>;
+DeformationResult optimizeDeformationGraph(
+    const DeformationGraph& graph, const DeformationGraphOptions& options = {},
+    const std::set<std::pair<NodeId, NodeId>>& held_out = {},
+    const DeformationWarmStart* warm = nullptr,
+    const std::function<void(const RobustVerdicts&)>& decided = {});
 
 /// Nanoseconds of a window in seconds (<= 0: none).
 inline int64_t windowNs(double seconds) {

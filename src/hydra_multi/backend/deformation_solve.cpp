@@ -123,10 +123,10 @@ void analyzeWholeGraphAhead(const DeformationGraph& graph, const PoseGraph& robu
 
 }  // namespace
 
-DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
-                                           const DeformationGraphOptions& options,
-                                           const std::set<std::pair<NodeId, NodeId>>& held_out,
-                                           const DeformationWarmStart* warm) {
+DeformationResult optimizeDeformationGraph(
+    const DeformationGraph& graph, const DeformationGraphOptions& options,
+    const std::set<std::pair<NodeId, NodeId>>& held_out, const DeformationWarmStart* warm,
+    const std::function<void(const RobustVerdicts&)>& decided) {
   DeformationResult result;
   if (graph.initial.empty()) return result;
   const PoseGraph& robust = options.two_stage ? graph.skeleton : graph.graph;
@@ -212,6 +212,7 @@ DeformationResult optimizeDeformationGraph(const DeformationGraph& graph,
     if (e.kind == PoseGraphEdge::Kind::kLoopClosure && i < result.solve.edge_inlier.size())
       result.robust_inlier[{e.from, e.to}] = result.solve.edge_inlier[i];
   }
+  if (decided) decided(result.robust_inlier);
   if (!options.two_stage) return result;
 
   // The whole graph with the robust factors GNC kept, from the skeleton's solution: control

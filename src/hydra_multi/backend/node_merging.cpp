@@ -1,5 +1,6 @@
 #include "hydra_multi/backend/node_merging.h"
 
+#include <algorithm>
 #include <set>
 
 #include "hydra_multi/backend/deformation_graph.h"
@@ -35,57 +36,125 @@ AcceptedMerge::Side MergeSideFinder::side(NodeId id) const {
   return s;
 }
 
+namespace {
+
+// The sides of merges, each robot's MergeSideFinder made when first asked.
+class MergeSides {
+ public:
+  MergeSides(const SceneGraph& frontend, const std::map<RobotId, const Mesh*>& meshes,
+             double window_s)
+      : frontend_(frontend), meshes_(meshes), window_s_(window_s) {}
+  AcceptedMerge::Side operator()(NodeId id) {
+    const RobotId robot = id.sourceRobot().value_or(RobotId(0));
+    const auto mesh = meshes_.find(robot);
+    const auto it = finders_
+                        .try_emplace(robot, frontend_, robot,
+                                     mesh == meshes_.end() ? nullptr : mesh->second, window_s_)
+                        .first;
+    return it->second.side(id);
+  }
+
+ private:
+  const SceneGraph& frontend_;
+  const std::map<RobotId, const Mesh*>& meshes_;
+  double window_s_;
+  std::map<RobotId, MergeSideFinder> finders_;
+};
+
+}  // namespace
+
+std::vector<bool> keptCandidates(const std::vector<MergeCandidate>& candidates,
+                                 const std::map<std::pair<NodeId, NodeId>, bool>& kept_factors) {
+  std::vector<bool> kept(candidates.size(), false);
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    const auto it = kept_factors.find({candidates[i].target, candidates[i].source});
+    kept[i] = it != kept_factors.end() && it->second;
+  }
+  return kept;
+}
+
+MergePlan planMerges(SceneGraph& graph, const SceneGraph& frontend,
+                     const std::vector<MergeCandidate>& candidates, const std::vector<bool>& kept,
+                     const std::map<RobotId, const Mesh*>& meshes, double window_s,
+                     const ReconciliationOptions& options) {
+  MergePlan plan;
+  const size_t n_kept = size_t(std::count(kept.begin(), kept.end(), true));
+  if (candidates.empty() || double(n_kept) < options.min_valid_share * double(candidates.size())) {
+    plan.outcome.undone = n_kept;
+    return plan;
+  }
+  plan.made = true;
+  MergeSides side(frontend, meshes, window_s);
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    const MergeCandidate& c = candidates[i];
+    if (!kept[i] || !graph.hasNode(c.target) || !graph.hasNode(c.source)) continue;
+    plan.outcome.merges.push_back({c.target, c.source, c.layer, side(c.target), side(c.source)});
+    graph.mergeNodes(c.target, c.source);
+    ++plan.outcome.accepted;
+    if (c.layer != Layer::kObjects) continue;
+    for (const NodeId id : {c.target, c.source}) {
+      if (const auto robot = id.sourceRobot()) plan.voters[c.target].insert(*robot);
+    }
+  }
+  return plan;
+}
+
+std::map<NodeId, Placement> mergedNodes(const MergePlan& plan) {
+  std::map<NodeId, Placement> nodes;
+  for (const AcceptedMerge& m : plan.outcome.merges) {
+    nodes[m.target];
+    nodes[m.source];
+  }
+  return nodes;
+}
+
+MergeOutcome placeMerged(SceneGraph& graph, MergePlan plan, std::map<NodeId, Placement> placed,
+                         const SceneGraph& frontend, const std::map<RobotId, const Mesh*>& meshes,
+                         const ReconciliationOptions& options, double window_s) {
+  MergeOutcome& outcome = plan.outcome;
+  for (AcceptedMerge& m : outcome.merges) {
+    Placement& target = placed.at(m.target);
+    const Placement& source = placed.at(m.source);
+    m.target_optimized = target.position;
+    m.source_optimized = source.position;
+    target = fusedPlacement(target, source);
+  }
+  for (const AcceptedMerge& m : outcome.merges) {
+    Node* node = graph.findMutableNode(m.target);  // none: merged on into another
+    if (node == nullptr) continue;
+    const Placement& fused = placed.at(m.target);
+    node->position = fused.position;
+    node->semantic()->bounding_box = fused.box;
+  }
+  if (options.label_votes && plan.made) {
+    MergeSides side(frontend, meshes, window_s);
+    for (const LabelDispute& d : resolveLabelDisputes(graph, plan.voters, options)) {
+      outcome.merges.push_back({d.winner, d.loser, Layer::kObjects, side(d.winner), side(d.loser),
+                                graph.getNode(d.winner).position, graph.getNode(d.loser).position});
+      graph.mergeNodes(d.winner, d.loser);
+      ++outcome.label_merges;
+    }
+  }
+  return std::move(plan.outcome);
+}
+
 MergeOutcome mergeKept(SceneGraph& graph, const SceneGraph& frontend,
                        const std::vector<MergeCandidate>& candidates,
                        const std::map<std::pair<NodeId, NodeId>, bool>& kept_factors,
                        const std::map<RobotId, const Mesh*>& meshes,
                        const ReconciliationOptions& options, double window_s) {
-  MergeOutcome outcome;
-  std::vector<const MergeCandidate*> kept;
-  for (const MergeCandidate& c : candidates) {
-    const auto it = kept_factors.find({c.target, c.source});
-    if (it != kept_factors.end() && it->second) kept.push_back(&c);
-  }
-  if (!candidates.empty() &&
-      double(kept.size()) >= options.min_valid_share * double(candidates.size())) {
-    std::map<RobotId, MergeSideFinder> sides;
-    const auto side = [&](NodeId id) {
-      const RobotId robot = id.sourceRobot().value_or(RobotId(0));
-      const auto mesh = meshes.find(robot);
-      const auto it = sides
-                          .try_emplace(robot, frontend, robot,
-                                       mesh == meshes.end() ? nullptr : mesh->second, window_s)
-                          .first;
-      return it->second.side(id);
-    };
-    // The robots whose copies each merged object unites, for the label votes.
-    std::map<NodeId, std::set<RobotId>> voters;
-    for (const MergeCandidate* c : kept) {
-      if (!graph.hasNode(c->target) || !graph.hasNode(c->source)) continue;
-      outcome.merges.push_back({c->target, c->source, c->layer, side(c->target), side(c->source),
-                                graph.getNode(c->target).position,
-                                graph.getNode(c->source).position});
-      graph.mergeNodes(c->target, c->source);
-      ++outcome.accepted;
-      if (c->layer != Layer::kObjects) continue;
-      for (const NodeId id : {c->target, c->source}) {
-        if (const auto robot = id.sourceRobot()) voters[c->target].insert(*robot);
-      }
+  const std::vector<bool> kept = keptCandidates(candidates, kept_factors);
+  std::map<NodeId, Placement> placed;
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    if (!kept[i]) continue;
+    for (const NodeId id : {candidates[i].target, candidates[i].source}) {
+      if (const Node* node = graph.findNode(id))
+        placed[id] = {node->position, node->semantic()->bounding_box};
     }
-    if (options.label_votes) {
-      for (const LabelDispute& d : resolveLabelDisputes(graph, voters, options)) {
-        outcome.merges.push_back({d.winner, d.loser, Layer::kObjects, side(d.winner), side(d.loser),
-                                  graph.getNode(d.winner).position,
-                                  graph.getNode(d.loser).position});
-        graph.mergeNodes(d.winner, d.loser);
-        ++outcome.label_merges;
-      }
-    }
-  } else {
-    outcome.undone = kept.size();
   }
-
-  return outcome;
+  MergePlan plan = planMerges(graph, frontend, candidates, kept, meshes, window_s, options);
+  return placeMerged(graph, std::move(plan), std::move(placed), frontend, meshes, options,
+                     window_s);
 }
 
 }  // namespace hydra_multi

@@ -7,6 +7,7 @@
 
 #include <map>
 #include <memory>
+#include <set>
 #include <vector>
 
 #include "hydra_multi/backend/reconciliation.h"
@@ -57,10 +58,35 @@ struct MergeOutcome {
 /// Makes in `graph` (the backend graph) the `candidates` whose factor GNC kept (`kept_factors`: per
 /// factor (target, source)), or none if fewer than options.min_valid_share of them were kept; then,
 /// with label votes, the label disputes. `meshes` and `window_s` are for the merge sides.
+/// The same as placeMerged(graph, planMerges(graph, ...), the nodes' placements before).
 MergeOutcome mergeKept(SceneGraph& graph, const SceneGraph& frontend,
                        const std::vector<MergeCandidate>& candidates,
                        const std::map<std::pair<NodeId, NodeId>, bool>& kept_factors,
                        const std::map<RobotId, const Mesh*>& meshes,
                        const ReconciliationOptions& options, double window_s);
+
+/// mergeKept in two halves, so that the merges can be made before the graph is placed (while the
+/// whole deformation graph is solved): planMerges makes them in `graph` as mergeKept does, but
+/// for the nodes' positions and boxes, which it fuses from what the graph holds then; placeMerged
+/// fuses them again from the nodes' placements (placeMap's) in the order made, writes the merged
+/// nodes' and fills each merge's optimized positions, then makes the label disputes.
+struct MergePlan {
+  MergeOutcome outcome;  ///< the kept merges made, their optimized positions not yet filled
+  bool made = false;     ///< enough were kept (min_valid_share): the label disputes follow
+  std::map<NodeId, std::set<RobotId>> voters;  ///< per merged object, the robots its copies are of
+};
+/// Per candidate, whether GNC kept its factor (`kept_factors` as for mergeKept).
+std::vector<bool> keptCandidates(const std::vector<MergeCandidate>& candidates,
+                                 const std::map<std::pair<NodeId, NodeId>, bool>& kept_factors);
+MergePlan planMerges(SceneGraph& graph, const SceneGraph& frontend,
+                     const std::vector<MergeCandidate>& candidates, const std::vector<bool>& kept,
+                     const std::map<RobotId, const Mesh*>& meshes, double window_s,
+                     const ReconciliationOptions& options);
+/// The nodes whose placement placeMerged needs: both ends of every merge in `plan`.
+std::map<NodeId, Placement> mergedNodes(const MergePlan& plan);
+/// `placed`: mergedNodes(plan) with each node's placement as placeMap gave it.
+MergeOutcome placeMerged(SceneGraph& graph, MergePlan plan, std::map<NodeId, Placement> placed,
+                         const SceneGraph& frontend, const std::map<RobotId, const Mesh*>& meshes,
+                         const ReconciliationOptions& options, double window_s);
 
 }  // namespace hydra_multi

@@ -51,7 +51,7 @@ void placeMap(SceneGraph& map, const SceneGraph& frontend,
               const std::map<NodeId, Eigen::Isometry3d>& poses,
               const DeformationGraphOptions& options, size_t mesh_neighbours,
               std::map<RobotId, Eigen::Isometry3d>* first_keyframes,
-              std::map<RobotId, MeshBinding>* bindings) {
+              std::map<RobotId, MeshBinding>* bindings, std::map<NodeId, Placement>* placements) {
   if (first_keyframes != nullptr) first_keyframes->clear();
   if (bindings != nullptr) {
     // Robots no longer aligned leave.
@@ -102,14 +102,26 @@ void placeMap(SceneGraph& map, const SceneGraph& frontend,
     int64_t first_time = std::numeric_limits<int64_t>::max();
     for (const NodeId id : frontend.nodesOfRobot(robot.robot)) {
       Node* placed = map.findMutableNode(id);
-      if (placed == nullptr) continue;  // rooms and buildings, nodes the deformation graph lacks
-      if (placed->layer() == Layer::kAgents || placed->layer() == Layer::kPlaces) {
+      Placement* record = nullptr;
+      if (placements != nullptr) {
+        const auto it = placements->find(id);
+        if (it != placements->end()) record = &it->second;
+      }
+      if (placed == nullptr && record == nullptr) continue;  // rooms, buildings, nodes not solved
+      const Node& node = frontend.getNode(id);
+      if (node.layer() == Layer::kAgents || node.layer() == Layer::kPlaces) {
         const auto pose = poses.find(id);
         if (pose == poses.end()) {
-          map.removeNode(id);
+          if (placed != nullptr) map.removeNode(id);
           continue;
         }
-        placed->position = pose->second.translation();
+        const Eigen::Vector3d position = pose->second.translation();
+        if (record != nullptr) {
+          const SemanticAttributes* semantic = node.semantic();  // none for keyframes
+          *record = {position, semantic ? semantic->bounding_box : std::nullopt};
+        }
+        if (placed == nullptr) continue;
+        placed->position = position;
         if (AgentAttributes* agent = placed->find<AgentAttributes>()) {
           agent->orientation = Eigen::Quaterniond(pose->second.linear()).normalized();
           if (agent->timestamp_ns < first_time) {
@@ -117,13 +129,12 @@ void placeMap(SceneGraph& map, const SceneGraph& frontend,
             if (first_keyframes != nullptr) (*first_keyframes)[robot.robot] = pose->second;
           }
         }
-      } else if (ObjectAttributes* object = placed->find<ObjectAttributes>()) {
+      } else if (const ObjectAttributes* object = node.find<ObjectAttributes>()) {
         // Moved as its mesh vertices moved, or as its nearest control point moved.
-        const Node& node = frontend.getNode(id);
         const Eigen::Vector3d aligned_position = T * node.position;
         Eigen::Vector3d shift = Eigen::Vector3d::Zero();
         size_t counted = 0;
-        for (const uint64_t v : node.find<ObjectAttributes>()->mesh_vertices) {
+        for (const uint64_t v : object->mesh_vertices) {
           if (v >= moved.size()) continue;
           shift += (moved[v] - aligned[v]).cast<double>();
           ++counted;
@@ -135,12 +146,15 @@ void placeMap(SceneGraph& map, const SceneGraph& frontend,
               near_cp.nearest(aligned_position, node.last_update_time_ns).front().index;
           shift = cp_optimized[c] * (cp_initial[c].inverse() * aligned_position) - aligned_position;
         }
-        placed->position = aligned_position + shift;
-        if (object->semantic.bounding_box) {
-          const Eigen::Vector3d half =
-              0.5 * (object->semantic.bounding_box->max - object->semantic.bounding_box->min);
-          object->semantic.bounding_box =
-              BoundingBox{placed->position - half, placed->position + half};
+        Placement placement{aligned_position + shift, object->semantic.bounding_box};
+        if (placement.box) {
+          const Eigen::Vector3d half = 0.5 * (placement.box->max - placement.box->min);
+          placement.box = BoundingBox{placement.position - half, placement.position + half};
+        }
+        if (record != nullptr) *record = placement;
+        if (placed != nullptr) {
+          placed->position = placement.position;
+          placed->semantic()->bounding_box = placement.box;
         }
       }
     }

@@ -28,12 +28,14 @@ SceneGraph unplacedMap(const SceneGraph& frontend, const std::vector<RobotDeform
 /// deformation graph's optimized `poses`; a keyframe or place without one leaves. `first_keyframes`
 /// (when given) receives each robot's first keyframe's optimized pose. `bindings` (when given)
 /// holds each robot's mesh as bound and blended by the last call, read and updated (MeshBinding:
-/// the same result as without).
+/// the same result as without). `placements` (when given): each node it holds gets the position and
+/// box placeMap gives it, also where `map` no longer holds it (merged into another: planMerges).
 void placeMap(SceneGraph& map, const SceneGraph& frontend,
               const std::vector<RobotDeformationInput>& robots, const DeformationGraph& deformation,
               const std::map<NodeId, Eigen::Isometry3d>& poses,
               const DeformationGraphOptions& options, size_t mesh_neighbours,
               std::map<RobotId, Eigen::Isometry3d>* first_keyframes = nullptr,
-              std::map<RobotId, MeshBinding>* bindings = nullptr);
+              std::map<RobotId, MeshBinding>* bindings = nullptr,
+              std::map<NodeId, Placement>* placements = nullptr);
 
 }  // namespace hydra_multi

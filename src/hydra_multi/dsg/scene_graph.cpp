@@ -13,20 +13,15 @@ std::vector<uint64_t> unitedSorted(std::vector<uint64_t> a, const std::vector<ui
   return a;
 }
 
-void fuseSemantic(SemanticAttributes& target, const SemanticAttributes& source) {
-  if (target.bounding_box && source.bounding_box) {
-    target.bounding_box = target.bounding_box->merged(*source.bounding_box);
-  } else if (!target.bounding_box) {
-    target.bounding_box = source.bounding_box;
-  }
-}
-
 // Fuses the attributes of `source` into `target` (same layer, not agents).
 void fuseAttributes(Node& target, const Node& source) {
-  target.position = 0.5 * (target.position + source.position);
+  std::optional<BoundingBox>& box = target.semantic()->bounding_box;
+  const Placement fused =
+      fusedPlacement({target.position, box}, {source.position, source.semantic()->bounding_box});
+  target.position = fused.position;
+  box = fused.box;
   target.last_update_time_ns = std::max(target.last_update_time_ns, source.last_update_time_ns);
   target.is_active = target.is_active || source.is_active;
-  fuseSemantic(*target.semantic(), *source.semantic());
   if (auto* object = target.find<ObjectAttributes>()) {
     object->mesh_vertices =
         unitedSorted(object->mesh_vertices, source.find<ObjectAttributes>()->mesh_vertices);
@@ -39,6 +34,16 @@ void fuseAttributes(Node& target, const Node& source) {
 }
 
 }  // namespace
+
+Placement fusedPlacement(const Placement& target, const Placement& source) {
+  Placement fused{0.5 * (target.position + source.position), target.box};
+  if (target.box && source.box) {
+    fused.box = target.box->merged(*source.box);
+  } else if (!target.box) {
+    fused.box = source.box;
+  }
+  return fused;
+}
 
 SceneGraph::SceneGraph(const SceneGraph& other)
     : nodes_(other.nodes_),

@@ -21,6 +21,14 @@
 
 namespace hydra_multi {
 
+/// A node's position and box, as a merge fuses them (mergeNodes): positions averaged, boxes united
+/// (a missing box takes the other's).
+struct Placement {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  std::optional<BoundingBox> box;
+};
+Placement fusedPlacement(const Placement& target, const Placement& source);
+
 /// What mergeNodes() did, so that undoMerge() can take it back.
 struct MergeRecord {
   Node target_before;                   ///< the target as it was before the merge

@@ -161,6 +161,8 @@ const std::map<std::string, std::map<std::string, Setter>>& setters() {
        {{"enabled", flag([](StationOptions& o, bool b) { o.backend.reconcile = b; })},
         {"admit_fitting_merges",
          flag([](StationOptions& o, bool b) { o.backend.admit_fitting_merges = b; })},
+        {"merge_while_solving",
+         flag([](StationOptions& o, bool b) { o.backend.merge_while_solving = b; })},
         {"icp_threads",
          count([](StationOptions& o, int n) { o.backend.reconciliation.icp_threads = n; }, 1)},
         {"place_max_distance",
