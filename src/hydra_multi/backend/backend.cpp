@@ -411,8 +411,11 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   report.whole_graph_ahead = result.whole_graph_analyzed_ahead;
   report.gnc_s = lap() - result.whole_graph_s;
   recordVerdicts(team, inter_robot, result, report);
-  rememberForNextRound(frontend, graph, result, proposal_poses, proposals.held_out,
-                       team.T_global_robot);
+  // What the next round starts from, kept on the second thread while this one makes its graph.
+  std::future<void> remembered = std::async(std::launch::async, [&] {
+    rememberForNextRound(frontend, graph, result, proposal_poses, proposals.held_out,
+                         team.T_global_robot);
+  });
 
   // 4. The backend graph, and the merges GNC kept.
   if (!incremental()) mesh_bindings_.clear();
@@ -457,6 +460,7 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     report.rooms = rooms.rooms.size();
   }
   report.rooms_s = lap();
+  remembered.get();
   graph_ = std::move(map);
   report.nodes = graph_.numNodes();
   report.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
