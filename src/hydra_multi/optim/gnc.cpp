@@ -1,6 +1,8 @@
 #include "hydra_multi/optim/gnc.h"
 
+#include <math.h>
 #include <algorithm>
+
 #include <cmath>
 
 namespace hydra_multi {
@@ -10,7 +12,10 @@ namespace {
 // (Numerical Recipes, 6.2).
 double regularizedGammaP(double a, double x) {
   if (x <= 0.0) return 0.0;
-  const double log_prefactor = -x + a * std::log(x) - std::lgamma(a);
+  // lgamma_r, not std::lgamma: that one writes the global signgam, a data race between the solves
+  // that run on two threads.
+  int sign = 0;
+  const double log_prefactor = -x + a * std::log(x) - lgamma_r(a, &sign);
   if (x < a + 1.0) {
     double term = 1.0 / a, sum = term;
     for (int n = 1; n < 500; ++n) {
