@@ -58,6 +58,21 @@ SolvedNodes solvedNodes(const SceneGraph& frontend,
   return nodes;
 }
 
+// Look-ups in a map for keys asked in ascending order, walking it once.
+template <class Map>
+class AscendingLookup {
+ public:
+  explicit AscendingLookup(const Map& map) : it_(map.begin()), end_(map.end()) {}
+  const typename Map::mapped_type* find(const typename Map::key_type& key) {
+    while (it_ != end_ && it_->first < key) ++it_;
+    return it_ != end_ && !(key < it_->first) ? &it_->second : nullptr;
+  }
+
+ private:
+  typename Map::const_iterator it_, end_;
+};
+using PoseLookup = AscendingLookup<std::map<NodeId, Eigen::Isometry3d>>;
+
 // Whether `poses` holds a pose for every node of `initial`.
 bool posedEverywhere(const std::map<NodeId, Eigen::Isometry3d>& poses,
                      const std::map<NodeId, Eigen::Isometry3d>& initial) {
@@ -200,23 +215,24 @@ DeformationWarmStart Backend::lastRound(const DeformationGraph& graph, const Tea
     return robot && kept.count(*robot) != 0;
   };
   // A node's own correction, else (a node new since) that of its robot's latest keyframe.
-  const auto moved = [](const std::map<NodeId, Eigen::Isometry3d>& own,
-                        const std::map<RobotId, Eigen::Isometry3d>& latest, NodeId id,
+  const auto moved = [](PoseLookup& own, const std::map<RobotId, Eigen::Isometry3d>& latest,
+                        NodeId id,
                         const Eigen::Isometry3d& initial) -> std::optional<Eigen::Isometry3d> {
-    if (const auto it = own.find(id); it != own.end()) return it->second * initial;
+    if (const Eigen::Isometry3d* correction = own.find(id)) return *correction * initial;
     if (const auto it = latest.find(*id.sourceRobot()); it != latest.end())
       return it->second * initial;
     return std::nullopt;
   };
-  // The nodes are visited in id order: each map grows at its end.
+  // The nodes are visited in id order: each map grows at its end, each correction is walked once.
+  PoseLookup whole(corrections_), proposal(proposal_corrections_), held(held_out_corrections_);
   for (const auto& [id, initial] : graph.skeleton.poses) {
     if (!poses || !ofKept(id)) continue;
-    if (const auto pose = moved(corrections_, latest_corrections_, id, initial))
+    if (const auto pose = moved(whole, latest_corrections_, id, initial))
       warm.poses.emplace_hint(warm.poses.end(), id, *pose);
     if (last_proposal == nullptr) continue;
-    if (const auto pose = moved(proposal_corrections_, latest_proposal_corrections_, id, initial))
+    if (const auto pose = moved(proposal, latest_proposal_corrections_, id, initial))
       last_proposal->emplace_hint(last_proposal->end(), id, *pose);
-    if (const auto pose = moved(held_out_corrections_, latest_held_out_corrections_, id, initial);
+    if (const auto pose = moved(held, latest_held_out_corrections_, id, initial);
         pose && last_held_out != nullptr)
       last_held_out->emplace_hint(last_held_out->end(), id, *pose);
   }
@@ -228,13 +244,13 @@ DeformationWarmStart Backend::lastRound(const DeformationGraph& graph, const Tea
   // its solve reads the earlier solutions of skeleton nodes alone.
   const std::map<NodeId, Eigen::Isometry3d>& nodes =
       graph.whole ? graph.initial : graph.skeleton.poses;
+  PoseLookup whole_again(corrections_), skeleton(skeleton_corrections_);
   for (const auto& [id, initial] : nodes) {
     if (!ofKept(id)) continue;
-    if (const auto whole = corrections_.find(id); whole != corrections_.end())
-      warm.last_whole.emplace_hint(warm.last_whole.end(), id, whole->second * initial);
-    if (const auto skeleton = skeleton_corrections_.find(id);
-        skeleton != skeleton_corrections_.end())
-      warm.last_skeleton.emplace_hint(warm.last_skeleton.end(), id, skeleton->second * initial);
+    if (const Eigen::Isometry3d* correction = whole_again.find(id))
+      warm.last_whole.emplace_hint(warm.last_whole.end(), id, *correction * initial);
+    if (const Eigen::Isometry3d* correction = skeleton.find(id))
+      warm.last_skeleton.emplace_hint(warm.last_skeleton.end(), id, *correction * initial);
   }
   return warm;
 }
@@ -363,11 +379,11 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     // moved as the loop closures' solve moved them since: P_now P_then^-1 S_then.
     std::map<NodeId, Eigen::Isometry3d> last_proposal;
     DeformationWarmStart last = lastRound(graph, team, true, &last_proposal);
+    PoseLookup proposed_then(last_proposal), skeleton_then(last.last_skeleton);
     for (auto& [id, pose] : warm.poses) {
-      const auto then = last_proposal.find(id);
-      const auto skeleton = last.last_skeleton.find(id);
-      if (then != last_proposal.end() && skeleton != last.last_skeleton.end())
-        pose = pose * then->second.inverse() * skeleton->second;
+      const Eigen::Isometry3d* then = proposed_then.find(id);
+      const Eigen::Isometry3d* skeleton = skeleton_then.find(id);
+      if (then != nullptr && skeleton != nullptr) pose = pose * then->inverse() * *skeleton;
     }
     warm.last_whole = std::move(last.last_whole);
     warm.last_skeleton = std::move(last.last_skeleton);

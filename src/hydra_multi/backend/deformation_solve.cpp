@@ -24,18 +24,33 @@ std::optional<std::set<NodeId>> changedNodes(const PoseGraph& whole,
                                              const DeformationWarmStart& warm,
                                              const DeformationGraphOptions& options) {
   if (warm.last_whole.empty()) return std::nullopt;
+  // Per node of `start`: its pose there and in the earlier solution (none: null), its neighbours.
+  struct Node {
+    const Eigen::Isometry3d* now;
+    const Eigen::Isometry3d* then;
+    std::vector<NodeId> neighbours;
+  };
+  std::unordered_map<NodeId, Node> nodes;
+  nodes.reserve(start.size());
+  auto then = warm.last_whole.begin();
+  for (const auto& [id, pose] : start) {
+    while (then != warm.last_whole.end() && then->first < id) ++then;
+    const bool earlier = then != warm.last_whole.end() && then->first == id;
+    nodes.emplace(id, Node{&pose, earlier ? &then->second : nullptr, {}});
+  }
   std::set<NodeId> changed;
-  std::unordered_map<NodeId, std::vector<NodeId>> neighbours;
   for (size_t k = 0; k < whole.edges.size(); ++k) {
     const PoseGraphEdge& e = whole.edges[k];
-    if (left_out[k] || !start.count(e.from) || !start.count(e.to)) continue;
-    neighbours[e.from].push_back(e.to);
-    neighbours[e.to].push_back(e.from);
-    const auto from_then = warm.last_whole.find(e.from), to_then = warm.last_whole.find(e.to);
-    bool moved = from_then == warm.last_whole.end() || to_then == warm.last_whole.end();
+    if (left_out[k]) continue;
+    const auto from = nodes.find(e.from), to = nodes.find(e.to);
+    if (from == nodes.end() || to == nodes.end()) continue;
+    Node &a = from->second, &b = to->second;
+    a.neighbours.push_back(e.to);
+    b.neighbours.push_back(e.from);
+    bool moved = a.then == nullptr || b.then == nullptr;
     if (!moved) {
-      const Eigen::Isometry3d delta = (from_then->second.inverse() * to_then->second).inverse() *
-                                      (start.at(e.from).inverse() * start.at(e.to));
+      const Eigen::Isometry3d delta =
+          (a.then->inverse() * *b.then).inverse() * (a.now->inverse() * *b.now);
       moved = delta.translation().norm() > options.local_move_m ||
               Eigen::AngleAxisd(delta.linear()).angle() > options.local_move_rad;
     }
@@ -48,7 +63,7 @@ std::optional<std::set<NodeId>> changedNodes(const PoseGraph& whole,
   for (int hop = 0; hop < options.local_hops && !frontier.empty(); ++hop) {
     std::vector<NodeId> next;
     for (const NodeId id : frontier) {
-      for (const NodeId n : neighbours[id]) {
+      for (const NodeId n : nodes.at(id).neighbours) {
         if (changed.insert(n).second) next.push_back(n);
       }
     }
