@@ -6,6 +6,7 @@
 #include <optional>
 #include <set>
 
+#include "hydra_multi/core/ascending_lookup.h"
 #include "hydra_multi/core/nearest_neighbors.h"
 
 namespace hydra_multi {
@@ -58,19 +59,6 @@ SolvedNodes solvedNodes(const SceneGraph& frontend,
   return nodes;
 }
 
-// Look-ups in a map for keys asked in ascending order, walking it once.
-template <class Map>
-class AscendingLookup {
- public:
-  explicit AscendingLookup(const Map& map) : it_(map.begin()), end_(map.end()) {}
-  const typename Map::mapped_type* find(const typename Map::key_type& key) {
-    while (it_ != end_ && it_->first < key) ++it_;
-    return it_ != end_ && !(key < it_->first) ? &it_->second : nullptr;
-  }
-
- private:
-  typename Map::const_iterator it_, end_;
-};
 using PoseLookup = AscendingLookup<std::map<NodeId, Eigen::Isometry3d>>;
 
 // Whether `poses` holds a pose for every node of `initial`.

@@ -9,6 +9,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "hydra_multi/core/ascending_lookup.h"
 #include "hydra_multi/optim/sparse_levenberg_marquardt.h"
 
 namespace hydra_multi {
@@ -171,11 +172,12 @@ DeformationResult optimizeDeformationGraph(
   std::map<NodeId, Eigen::Isometry3d> initial_poses = robust_poses;
   if (warm != nullptr) {
     std::set<NodeId> unplaced;
+    AscendingLookup warm_poses(warm->poses);
     for (auto& [id, pose] : initial_poses) {
-      if (const auto it = warm->poses.find(id); it != warm->poses.end()) {
-        pose = it->second;
+      if (const Eigen::Isometry3d* start = warm_poses.find(id)) {
+        pose = *start;
       } else {
-        unplaced.insert(id);
+        unplaced.emplace_hint(unplaced.end(), id);
       }
     }
     // A node the warm start lacks (an object only merge candidates bring in) starts where its tie
@@ -234,14 +236,17 @@ DeformationResult optimizeDeformationGraph(
   // points start where the keyframe that observed them moved them.
   const auto whole_start = std::chrono::steady_clock::now();
   std::map<NodeId, Eigen::Isometry3d> initial = result.poses;
+  AscendingLookup observed_by(graph.observed_by);
+  auto next = initial.begin();  // walked with graph.initial, both in id order
   for (const auto& [id, pose] : graph.initial) {
-    if (initial.count(id)) continue;
-    const auto keyframe = graph.observed_by.find(id);
-    const auto moved = keyframe == graph.observed_by.end() ? result.poses.end()
-                                                           : result.poses.find(keyframe->second);
-    initial[id] = moved == result.poses.end()
-                      ? pose
-                      : moved->second * graph.initial.at(keyframe->second).inverse() * pose;
+    while (next != initial.end() && next->first < id) ++next;
+    if (next != initial.end() && next->first == id) continue;
+    const NodeId* keyframe = observed_by.find(id);
+    const auto moved = keyframe == nullptr ? result.poses.end() : result.poses.find(*keyframe);
+    initial.emplace_hint(next, id,
+                         moved == result.poses.end()
+                             ? pose
+                             : moved->second * graph.initial.at(*keyframe).inverse() * pose);
   }
   result.poses = initial;
   if (options.final_iterations == 0) return result;
@@ -249,15 +254,17 @@ DeformationResult optimizeDeformationGraph(
   const std::vector<bool> left_out = leftOut(graph, result.robust_inlier);
   if (warm != nullptr) {
     // From the earlier whole solution, moved as the skeleton (or the keyframe) moved since.
+    AscendingLookup last_whole(warm->last_whole);
+    AscendingLookup observed(graph.observed_by);
     for (auto& [id, pose] : initial) {
-      const auto then = warm->last_whole.find(id);
-      if (then == warm->last_whole.end()) continue;
-      const auto keyframe = graph.observed_by.find(id);
-      const NodeId mover = keyframe == graph.observed_by.end() ? id : keyframe->second;
+      const Eigen::Isometry3d* then = last_whole.find(id);
+      if (then == nullptr) continue;
+      const NodeId* keyframe = observed.find(id);
+      const NodeId mover = keyframe == nullptr ? id : *keyframe;
       const auto now = result.solve.poses.find(mover);
       const auto skeleton_then = warm->last_skeleton.find(mover);
       if (now == result.solve.poses.end() || skeleton_then == warm->last_skeleton.end()) continue;
-      pose = now->second * skeleton_then->second.inverse() * then->second;
+      pose = now->second * skeleton_then->second.inverse() * *then;
     }
   }
   RobustPgoOptions plain = wholeGraphSolver(options);
