@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 
 #include "hydra_multi/backend/backend.h"
@@ -67,6 +68,19 @@ class TinyTeam : public ::testing::Test {
     return robots;
   }
   static std::vector<BackendRobot> robots() { return teamOf(*processor_); }
+  // The updates in time order through `processor` and `detector`, `round` after every `every`
+  // of them and once more after the detector's flush.
+  static void replayWithRounds(SceneGraphProcessor& processor, LoopClosureDetector& detector,
+                               size_t every, const std::function<void()>& round) {
+    const std::vector<RobotUpdate> updates = updatesInTimeOrder();
+    for (size_t i = 0; i < updates.size(); ++i) {
+      const UpdateReport report = processor.process(updates[i]);
+      detector.update(processor, report.new_keyframes);
+      if (i % every == every - 1) round();
+    }
+    detector.flush(processor);
+    round();
+  }
   static BackendOptions options() {
     BackendOptions options;
     options.rooms.min_room_places = 5;  // tiny's rooms hold about 15 places each
@@ -187,7 +201,6 @@ TEST_F(TinyTeam, OneStageAgreesWithTwoStages) {
 // round's verdicts as known, and solve no more often (fewer where GNC has outliers to reject:
 // RobustPoseGraph.KnownVerdictsAreKeptUnlessTheResultContradictsThem).
 TEST_F(TinyTeam, IncrementalRoundsAgreeWithRoundsFromScratch) {
-  const std::vector<RobotUpdate> updates = updatesInTimeOrder();
   BackendOptions scratch = options();
   scratch.incremental = false;
   Backend incremental(options()), batch(scratch);
@@ -210,13 +223,7 @@ TEST_F(TinyTeam, IncrementalRoundsAgreeWithRoundsFromScratch) {
     EXPECT_EQ(last_batch.verdicts_known, 0u);
     EXPECT_EQ(last_incremental.merges_accepted, last_batch.merges_accepted) << "round " << rounds;
   };
-  for (size_t i = 0; i < updates.size(); ++i) {
-    const UpdateReport report = processor.process(updates[i]);
-    detector.update(processor, report.new_keyframes);
-    if (i % 5 == 4) round();
-  }
-  detector.flush(processor);
-  round();
+  replayWithRounds(processor, detector, 5, round);
   EXPECT_GE(rounds, 5u);
   EXPECT_GE(known_rounds, 2u);
   EXPECT_GT(admitted, 0u);
@@ -233,7 +240,6 @@ TEST_F(TinyTeam, IncrementalRoundsAgreeWithRoundsFromScratch) {
 // (BackendOptions::merge_while_solving), give the graph that merges made after placing give, to
 // the bit, round after round; with label votes, whose merges follow the others, too.
 TEST_F(TinyTeam, MergesMadeWhileSolvingGiveTheSameGraph) {
-  const std::vector<RobotUpdate> updates = updatesInTimeOrder();
   BackendOptions during = options();
   during.reconciliation.label_votes = true;
   during.reconciliation.label_min_odds = 1.0;
@@ -265,13 +271,7 @@ TEST_F(TinyTeam, MergesMadeWhileSolvingGiveTheSameGraph) {
       EXPECT_EQ(x.source_side.position, y.source_side.position);
     }
   };
-  for (size_t i = 0; i < updates.size(); ++i) {
-    const UpdateReport report = processor.process(updates[i]);
-    detector.update(processor, report.new_keyframes);
-    if (i % 10 == 9) round();
-  }
-  detector.flush(processor);
-  round();
+  replayWithRounds(processor, detector, 10, round);
   EXPECT_GE(rounds, 3u);
   EXPECT_GT(merged, 10u);
   EXPECT_GT(label_merges, 0u);
@@ -309,8 +309,9 @@ TEST(MergePlan, PlacedAfterMakesWhatMergingThePlacedGraphMakes) {
   // b into a, then c into b (gone: not made), c into a, and objects b into c, c into a; pc1 into
   // pa rejected.
   const std::vector<MergeCandidate> candidates = {
-      {pa, pb, Layer::kPlaces},  {pb, pc, Layer::kPlaces},  {pa, pc, Layer::kPlaces},
-      {oc, ob, Layer::kObjects}, {oa, oc, Layer::kObjects}, {pa, pc1, Layer::kPlaces}};
+      {pa, pb, Layer::kPlaces, std::nullopt},  {pb, pc, Layer::kPlaces, std::nullopt},
+      {pa, pc, Layer::kPlaces, std::nullopt},  {oc, ob, Layer::kObjects, std::nullopt},
+      {oa, oc, Layer::kObjects, std::nullopt}, {pa, pc1, Layer::kPlaces, std::nullopt}};
   std::map<std::pair<NodeId, NodeId>, bool> kept;
   for (const MergeCandidate& m : candidates) kept[{m.target, m.source}] = m.source != pc1;
   // The same graph before placing: the merged nodes elsewhere, with other boxes (placeMap places
