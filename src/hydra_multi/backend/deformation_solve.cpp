@@ -33,12 +33,8 @@ std::optional<std::set<NodeId>> changedNodes(const PoseGraph& whole,
   };
   std::unordered_map<NodeId, Node> nodes;
   nodes.reserve(start.size());
-  auto then = warm.last_whole.begin();
-  for (const auto& [id, pose] : start) {
-    while (then != warm.last_whole.end() && then->first < id) ++then;
-    const bool earlier = then != warm.last_whole.end() && then->first == id;
-    nodes.emplace(id, Node{&pose, earlier ? &then->second : nullptr, {}});
-  }
+  AscendingLookup earlier(warm.last_whole);
+  for (const auto& [id, pose] : start) nodes.emplace(id, Node{&pose, earlier.find(id), {}});
   std::set<NodeId> changed;
   for (size_t k = 0; k < whole.edges.size(); ++k) {
     const PoseGraphEdge& e = whole.edges[k];
