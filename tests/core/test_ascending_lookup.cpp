@@ -17,7 +17,9 @@ TEST(AscendingLookup, FindsWhatFindFindsForAscendingKeys) {
     const double* found = lookup.find(key);
     const auto it = map.find(key);
     ASSERT_EQ(found != nullptr, it != map.end()) << key;
-    if (found != nullptr) EXPECT_EQ(found, &it->second) << key;
+    if (found != nullptr) {
+      EXPECT_EQ(found, &it->second) << key;
+    }
   }
   // Asked again, the last key is still found; nothing is found in an empty map.
   AscendingLookup again(map);
