@@ -196,6 +196,41 @@ TEST(RobustPoseGraph, ReadmissionKeepsItsOwnSolutionWhereTheEarlierOneFitsWorse)
   EXPECT_EQ(again.solver_time.iterations, r.plain.solver_time.iterations);
 }
 
+// A re-admission that follows a solve after an earlier one, and is smaller than
+// readmit_unsolved_share of the inliers, is taken back without solving again: fewer iterations,
+// the loop closures only its solve would have shown to fit left rejected, and a later solve with
+// its verdicts (the rejected held out) takes them back and ends where the whole cascade ended.
+TEST(RobustPoseGraph, AFewReadmittedAfterASolveAreLeftToALaterSolve) {
+  const Readmission r;
+  RobustPgoOptions whole = r.options;
+  whole.reduce_chains = false;  // as the station solves: the result is the last polish's
+  RobustPgoOptions cut = whole;
+  cut.readmit_unsolved_share = 0.01;
+  const RobustPgoResult cascade = optimizePoseGraph(r.g.graph, r.start, r.anchor, whole);
+  const RobustPgoResult quick = optimizePoseGraph(r.g.graph, r.start, r.anchor, cut);
+  EXPECT_LT(quick.solver_time.iterations, cascade.solver_time.iterations);
+  size_t tail = 0;
+  for (size_t k = 0; k < r.g.graph.edges.size(); ++k) {
+    if (quick.edge_inlier[k]) {
+      EXPECT_TRUE(cascade.edge_inlier[k]) << "edge " << k;
+    } else {
+      tail += cascade.edge_inlier[k] ? 1 : 0;
+    }
+  }
+  EXPECT_GT(tail, 0u);
+  // What was taken back fits the result; what is left rejected does not.
+  std::vector<size_t> rejected;
+  for (size_t k = 0; k < r.g.graph.edges.size(); ++k) {
+    if (r.g.graph.edges[k].kind == PoseGraphEdge::Kind::kLoopClosure && !quick.edge_inlier[k])
+      rejected.push_back(k);
+  }
+  EXPECT_TRUE(edgesThatFit(r.g.graph, rejected, quick.poses, r.anchor, cut).empty());
+  const RobustPgoResult later =
+      optimizePoseGraph(r.g.graph, quick.poses, r.anchor, asDecided(r.g, quick));
+  EXPECT_EQ(later.edge_inlier, cascade.edge_inlier);
+  EXPECT_NEAR(later.final_cost, cascade.final_cost, 1e-4 * cascade.final_cost);
+}
+
 // Poses with one known-inlier edge (a place tied to its keyframe) are solved after the rest: the
 // others come out as without them, each leaf where its edge puts it, the leaf edges inliers.
 TEST(RobustPoseGraph, LeavesAreSolvedAfterTheRest) {

@@ -16,6 +16,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_EQ(options.backend.deformation.solver.solver.linearization_threads, 2);
   EXPECT_EQ(options.backend.reconciliation.icp_threads, 2);
   EXPECT_TRUE(options.backend.deformation.whole_graph_analysis_ahead);
+  EXPECT_DOUBLE_EQ(options.backend.readmit_unsolved_share, 0.01);
   EXPECT_EQ(options.keep_freed_mb, 1024u);
   const Status s = applyStationConfig(R"({
       "loop_closures": {"object_ambiguity_ratio": 0, "object_rival_distance": 2.5,
@@ -26,7 +27,7 @@ TEST(StationConfig, KeysSetOptions) {
                       "gnc_mu_step": 2.0, "gnc_incremental_mu_step": 1, "link_max_dt_s": 0,
                       "odometry_rotation_variance": 0.01, "reduce_chains": true,
                       "chain_min_share": 0.5, "linearization_threads": 1,
-                      "whole_graph_analysis_ahead": false},
+                      "whole_graph_analysis_ahead": false, "readmit_unsolved_share": 0},
       "reconciliation": {"enabled": false, "admit_fitting_merges": false,
                          "merge_while_solving": false,
                          "place_max_distance": 0.6, "label_votes": true, "icp_threads": 3,
@@ -57,6 +58,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_DOUBLE_EQ(options.backend.deformation.solver.chain_min_share, 0.5);
   EXPECT_EQ(options.backend.deformation.solver.solver.linearization_threads, 1);
   EXPECT_FALSE(options.backend.deformation.whole_graph_analysis_ahead);
+  EXPECT_DOUBLE_EQ(options.backend.readmit_unsolved_share, 0.0);
   EXPECT_EQ(options.backend.reconciliation.icp_threads, 3);
   EXPECT_FALSE(options.backend.reconcile);
   EXPECT_FALSE(options.backend.admit_fitting_merges);
@@ -92,6 +94,8 @@ TEST(StationConfig, ErrorsNameTheProblemAndChangeNothing) {
       {R"({"deformation": {"two_stage": 1}})", "deformation.two_stage: expected true or false"},
       {R"({"deformation": {"chain_min_share": 1.5}})",
        "deformation.chain_min_share: expected a number >= 0.0 and <= 1.0"},
+      {R"({"deformation": {"readmit_unsolved_share": 1.5}})",
+       "deformation.readmit_unsolved_share: expected a number >= 0.0 and <= 1.0"},
       {R"({"deformation": {"gnc_incremental_mu_step": 0.5}})",
        "deformation.gnc_incremental_mu_step: expected a number >= 1"},
       {R"({"reconciliation": {"label_confusion": 0.5}})",

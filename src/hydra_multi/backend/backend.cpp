@@ -250,6 +250,7 @@ Backend::Proposals Backend::proposeOnLoopClosureSolve(
   const auto start = std::chrono::steady_clock::now();
   DeformationGraphOptions skeleton = options_.deformation;
   skeleton.final_iterations = 0;
+  if (incremental()) skeleton.solver.readmit_unsolved_share = options_.readmit_unsolved_share;
   const DeformationGraph graph =
       buildDeformationGraph(frontend, team.inputs, loop_closures, {}, skeleton);
   std::map<NodeId, Eigen::Isometry3d> last_proposal, last_held_out;

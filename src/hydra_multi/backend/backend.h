@@ -83,6 +83,11 @@ struct BackendOptions {
   /// solved (planMerges), their nodes' positions and boxes fused once the graph is placed
   /// (placeMerged); false: made after placing (mergeKept). The same graph either way.
   bool merge_while_solving = true;
+  /// Incremental rounds: the loop closures' solve takes back, without solving again, a
+  /// re-admission smaller than this share of its inlier edges once a solve has followed an earlier
+  /// one (RobustPgoOptions::readmit_unsolved_share); the solve with merges solves them in. 0: every
+  /// re-admission solved in, as in a round from scratch.
+  double readmit_unsolved_share = 0.01;
 };
 
 struct BackendRoundReport {

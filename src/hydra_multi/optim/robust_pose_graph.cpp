@@ -179,7 +179,8 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
   };
 
   // Polish: the exact optimum over the inliers with the configured (sparse) solver; then take
-  // back rejected loop closures that fit it, and repeat until none does. With sparse Cholesky
+  // back rejected loop closures that fit it, and repeat until none does (or, after the second
+  // solve, until fewer than readmit_unsolved_share of the inliers do). With sparse Cholesky
   // throughout, the solves reuse GNC's problem (the same optimum: a factor at weight 0 is none).
   const double c2 = options.gnc.thresholdSq();
   const auto inlierCost = [&](const std::map<NodeId, Eigen::Isometry3d>& poses) {
@@ -251,6 +252,9 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
       }
       if (readmitted == 0) break;
       if (round == 0) result.held_out_poses = result.poses;  // re-admission leaves them
+      if (round > 0 && static_cast<double>(readmitted) <
+                           options.readmit_unsolved_share * static_cast<double>(inlier_edges))
+        break;
     }
   };
 

@@ -33,6 +33,11 @@ struct RobustPgoOptions {
   /// the inlier threshold are taken back and the inliers re-solved, until nothing changes. GNC is
   /// local: on CSAIL it ended with 12 of 128 true closures rejected that all fit its own solution.
   bool readmit_consistent = true;
+  /// A re-admission smaller than this share of the inlier edges, after the solve that followed an
+  /// earlier one, is taken back without solving again: the result is then the optimum without
+  /// those few, which fit it, and a later solve over them is left to solve them in (0: every
+  /// re-admission is solved in).
+  double readmit_unsolved_share = 0.0;
   /// Levenberg-Marquardt iterations of each GNC solve (0: solver.max_iterations). GNC re-weights
   /// after every solve, so inner solves need not converge, and short ones keep GNC near a good
   /// initial estimate while the loop-closure weights are still small (docs/DECISIONS.md "Three
