@@ -68,71 +68,7 @@ bool posedEverywhere(const std::map<NodeId, Eigen::Isometry3d>& poses,
                        [](const auto& a, const auto& b) { return a.first < b.first; });
 }
 
-bool sameTransform(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
-  return (a.matrix() - b.matrix()).cwiseAbs().maxCoeff() < 1e-9;
-}
-
-// Per node of `initial` that `poses` holds, the motion from one to the other: pose * initial^-1.
-std::map<NodeId, Eigen::Isometry3d> correctionsOf(
-    const std::map<NodeId, Eigen::Isometry3d>& poses,
-    const std::map<NodeId, Eigen::Isometry3d>& initial) {
-  std::map<NodeId, Eigen::Isometry3d> corrections;
-  for (const auto& [id, pose] : poses) {
-    const auto it = initial.find(id);
-    if (it != initial.end())
-      corrections.emplace_hint(corrections.end(), id, pose * it->second.inverse());
-  }
-  return corrections;
-}
-
 }  // namespace
-
-void Backend::rememberForNextRound(const SceneGraph& frontend, const DeformationGraph& graph,
-                                   const DeformationResult& result,
-                                   const std::map<NodeId, Eigen::Isometry3d>& proposal_poses,
-                                   const std::map<NodeId, Eigen::Isometry3d>& held_out_poses,
-                                   const std::map<RobotId, Eigen::Isometry3d>& T_global_robot) {
-  corrections_.clear();
-  skeleton_corrections_.clear();
-  proposal_corrections_.clear();
-  held_out_corrections_.clear();
-  latest_corrections_.clear();
-  latest_proposal_corrections_.clear();
-  latest_held_out_corrections_.clear();
-  last_verdicts_.clear();
-  last_alignment_ = T_global_robot;
-  if (!options_.incremental) return;
-  corrections_ = correctionsOf(result.poses, graph.initial);
-  skeleton_corrections_ = correctionsOf(result.solve.poses, graph.initial);
-  proposal_corrections_ = correctionsOf(proposal_poses, graph.skeleton.poses);
-  held_out_corrections_ = correctionsOf(held_out_poses, graph.skeleton.poses);
-  // Each robot's keyframes, latest first: a node new next round moves as the latest one did.
-  std::map<RobotId, std::vector<std::pair<int64_t, NodeId>>> keyframes;
-  for (const auto& [robot, T] : T_global_robot) {
-    auto& stamped = keyframes[robot];
-    for (const NodeId id : frontend.nodesOfRobot(robot)) {
-      if (const AgentAttributes* agent = frontend.getNode(id).find<AgentAttributes>())
-        stamped.emplace_back(agent->timestamp_ns, id);
-    }
-    std::sort(stamped.rbegin(), stamped.rend());
-  }
-  const auto latestOf = [&keyframes](const std::map<NodeId, Eigen::Isometry3d>& corrections) {
-    std::map<RobotId, Eigen::Isometry3d> latest;
-    for (const auto& [robot, stamped] : keyframes) {
-      for (const auto& [stamp, id] : stamped) {
-        if (const auto it = corrections.find(id); it != corrections.end()) {
-          latest[robot] = it->second;
-          break;
-        }
-      }
-    }
-    return latest;
-  };
-  latest_corrections_ = latestOf(corrections_);
-  latest_proposal_corrections_ = latestOf(proposal_corrections_);
-  latest_held_out_corrections_ = latestOf(held_out_corrections_);
-  last_verdicts_ = result.robust_inlier;
-}
 
 void Backend::align(const SceneGraph& frontend, const std::vector<BackendRobot>& robots,
                     const std::vector<PoseGraphEdge>& inter_robot, RobotId root,
@@ -181,66 +117,6 @@ std::set<std::pair<NodeId, NodeId>> Backend::alignmentOutliers() const {
     if (!inlier) held_out.insert(edge);
   }
   return held_out;
-}
-
-std::set<RobotId> Backend::alignedAsBefore(const Team& team) const {
-  std::set<RobotId> kept;
-  for (const auto& [robot, T] : team.T_global_robot) {
-    const auto last = last_alignment_.find(robot);
-    if (last != last_alignment_.end() && sameTransform(last->second, T)) kept.insert(robot);
-  }
-  return kept;
-}
-
-DeformationWarmStart Backend::lastRound(const DeformationGraph& graph, const Team& team, bool poses,
-                                        std::map<NodeId, Eigen::Isometry3d>* last_proposal,
-                                        std::map<NodeId, Eigen::Isometry3d>* last_held_out) const {
-  DeformationWarmStart warm;
-  if (!incremental()) return warm;
-  const std::set<RobotId> kept = alignedAsBefore(team);
-  const auto ofKept = [&kept](NodeId id) {
-    const auto robot = id.sourceRobot();
-    return robot && kept.count(*robot) != 0;
-  };
-  // A node's own correction, else (a node new since) that of its robot's latest keyframe.
-  const auto moved = [](PoseLookup& own, const std::map<RobotId, Eigen::Isometry3d>& latest,
-                        NodeId id,
-                        const Eigen::Isometry3d& initial) -> std::optional<Eigen::Isometry3d> {
-    if (const Eigen::Isometry3d* correction = own.find(id)) return *correction * initial;
-    if (const auto it = latest.find(*id.sourceRobot()); it != latest.end())
-      return it->second * initial;
-    return std::nullopt;
-  };
-  // The nodes are visited in id order: each map grows at its end, each correction is walked once.
-  PoseLookup whole(corrections_), proposal(proposal_corrections_), held(held_out_corrections_);
-  for (const auto& [id, initial] : graph.skeleton.poses) {
-    if (!poses || !ofKept(id)) continue;
-    if (const auto pose = moved(whole, latest_corrections_, id, initial))
-      warm.poses.emplace_hint(warm.poses.end(), id, *pose);
-    if (last_proposal == nullptr) continue;
-    if (const auto pose = moved(proposal, latest_proposal_corrections_, id, initial))
-      last_proposal->emplace_hint(last_proposal->end(), id, *pose);
-    if (const auto pose = moved(held, latest_held_out_corrections_, id, initial);
-        pose && last_held_out != nullptr)
-      last_held_out->emplace_hint(last_held_out->end(), id, *pose);
-  }
-  for (const auto& [edge, inlier] : last_verdicts_) {
-    if (ofKept(edge.first) && ofKept(edge.second)) warm.verdicts[edge] = inlier;
-  }
-  if (!poses) return warm;
-  // A graph assembled only as far as its skeleton (buildDeformationGraph) is solved no further:
-  // its solve reads the earlier solutions of skeleton nodes alone.
-  const std::map<NodeId, Eigen::Isometry3d>& nodes =
-      graph.whole ? graph.initial : graph.skeleton.poses;
-  PoseLookup whole_again(corrections_), skeleton(skeleton_corrections_);
-  for (const auto& [id, initial] : nodes) {
-    if (!ofKept(id)) continue;
-    if (const Eigen::Isometry3d* correction = whole_again.find(id))
-      warm.last_whole.emplace_hint(warm.last_whole.end(), id, *correction * initial);
-    if (const Eigen::Isometry3d* correction = skeleton.find(id))
-      warm.last_skeleton.emplace_hint(warm.last_skeleton.end(), id, *correction * initial);
-  }
-  return warm;
 }
 
 Backend::Proposals Backend::proposeOnLoopClosureSolve(
@@ -304,6 +180,98 @@ void Backend::recordVerdicts(const Team& team, const std::vector<PoseGraphEdge>&
     verdicts_.push_back({edge.first, edge.second, true, kept});
 }
 
+DeformationWarmStart Backend::startWithMerges(const DeformationGraph& graph, const Team& team,
+                                              DeformationWarmStart solved,
+                                              const std::vector<PoseGraphEdge>& merges,
+                                              std::set<std::pair<NodeId, NodeId>>& held_out,
+                                              BackendRoundReport& report) const {
+  if (solved.poses.empty()) {
+    DeformationWarmStart warm = lastRound(graph, team);
+    report.verdicts_known = warm.verdicts.size();
+    return warm;
+  }
+  DeformationWarmStart warm = std::move(solved);
+  // The loop closures as the solve without merges decided them, those it took back among them
+  // (it tested them held out).
+  for (const auto& [edge, inlier] : warm.verdicts) {
+    if (inlier) held_out.erase(edge);
+  }
+  if (!incremental()) return warm;
+  // The merges as the last round decided them. Poses from the last round's solve with merges,
+  // moved as the loop closures' solve moved them since: P_now P_then^-1 S_then.
+  std::map<NodeId, Eigen::Isometry3d> last_proposal;
+  DeformationWarmStart last = lastRound(graph, team, true, &last_proposal);
+  PoseLookup proposed_then(last_proposal), skeleton_then(last.last_skeleton);
+  for (auto& [id, pose] : warm.poses) {
+    const Eigen::Isometry3d* then = proposed_then.find(id);
+    const Eigen::Isometry3d* skeleton = skeleton_then.find(id);
+    if (then != nullptr && skeleton != nullptr) pose = pose * then->inverse() * *skeleton;
+  }
+  warm.last_whole = std::move(last.last_whole);
+  warm.last_skeleton = std::move(last.last_skeleton);
+  for (const PoseGraphEdge& e : merges) {
+    const auto verdict = last.verdicts.find({e.from, e.to});
+    if (verdict != last.verdicts.end()) {
+      warm.verdicts.insert(*verdict);
+      if (verdict->second) held_out.erase(verdict->first);  // kept last round: known
+    } else if (options_.admit_fitting_merges) {
+      warm.admit_if_fitting.insert({e.from, e.to});  // new: known where it fits the start
+    }
+  }
+  return warm;
+}
+
+Backend::MapInProgress Backend::startBackendGraph(const SceneGraph& frontend, const Team& team,
+                                                  const DeformationGraph& graph) const {
+  MapInProgress made;
+  made.unplaced = std::async(std::launch::async, [&frontend, &team, &graph] {
+    return unplacedMap(frontend, team.inputs, graph);
+  });
+  return made;
+}
+
+SceneGraph Backend::placeBackendGraph(const SceneGraph& frontend, const Team& team,
+                                      const DeformationGraph& graph,
+                                      const DeformationResult& result,
+                                      const std::vector<MergeCandidate>& candidates,
+                                      MapInProgress& made, BackendRoundReport& report) {
+  if (!incremental()) mesh_bindings_.clear();
+  std::map<RobotId, MeshBinding> fresh;
+  std::map<RobotId, MeshBinding>& bindings = incremental() ? mesh_bindings_ : fresh;
+  // A keyframe or place without a pose leaves the graph before any merge (placeMap), so where one
+  // lacks it the merges are made again after (mergeKept).
+  SceneGraph map;
+  std::optional<MergePlan> plan;
+  if (made.planned.valid()) {
+    auto [merged_map, planned] = made.planned.get();
+    if (posedEverywhere(result.poses, graph.initial)) {
+      map = std::move(merged_map);
+      plan = std::move(planned);
+    } else {
+      map = unplacedMap(frontend, team.inputs, graph);
+    }
+  } else {
+    map = made.unplaced.get();
+  }
+  std::map<NodeId, Placement> placements;
+  if (plan) placements = mergedNodes(*plan);
+  placeMap(map, frontend, team.inputs, graph, result.poses, options_.deformation,
+           options_.mesh_neighbours, &optimized_first_keyframes_, &bindings,
+           plan ? &placements : nullptr);
+  for (const auto& [robot, binding] : bindings) report.vertices_blended += binding.reblended;
+  report.merges_proposed = candidates.size();
+  const double window_s = options_.deformation.link_max_dt_s;
+  MergeOutcome merged = plan ? placeMerged(map, std::move(*plan), std::move(placements), frontend,
+                                           team.meshes, options_.reconciliation, window_s)
+                             : mergeKept(map, frontend, candidates, result.robust_inlier,
+                                         team.meshes, options_.reconciliation, window_s);
+  merges_ = std::move(merged.merges);
+  report.merges_accepted = merged.accepted;
+  report.merges_undone = merged.undone;
+  report.label_merges = merged.label_merges;
+  return map;
+}
+
 BackendRoundReport Backend::round(const SceneGraph& frontend,
                                   const std::vector<BackendRobot>& robots,
                                   const std::vector<PoseGraphEdge>& inter_robot, RobotId root,
@@ -330,7 +298,8 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   // 2. Reconciliation proposals on the loop closures' solve, as merge factors.
   const Team team = alignedTeam(robots);
   if (incremental())
-    report.robots_afresh = team.T_global_robot.size() - alignedAsBefore(team).size();
+    report.robots_afresh =
+        team.T_global_robot.size() - memory_.alignedAsBefore(team.T_global_robot).size();
   const bool joint = options_.joint_optimization;
   const std::vector<PoseGraphEdge> none;
   const std::vector<PoseGraphEdge>& loop_closures = joint ? inter_robot : none;
@@ -347,57 +316,19 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   report.build_s = lap();
 
   // 3. The deformation graph with the merge factors, held out until they fit (in an incremental
-  //    round, a new one that fits the start is known instead).
+  //    round, a new one that fits the start is known instead); the backend graph made meanwhile.
   if (options_.hold_out_merges) {
     for (const PoseGraphEdge& e : merges) held_out.insert({e.from, e.to});
   }
-  std::map<NodeId, Eigen::Isometry3d> proposal_poses = proposals.solved.poses;
-  DeformationWarmStart warm = std::move(proposals.solved);
-  if (warm.poses.empty()) {
-    warm = lastRound(graph, team);
-    report.verdicts_known = warm.verdicts.size();
-  } else {
-    // The loop closures as the solve without merges decided them, those it took back among them
-    // (it tested them held out).
-    for (const auto& [edge, inlier] : warm.verdicts) {
-      if (inlier) held_out.erase(edge);
-    }
-  }
-  if (!proposal_poses.empty() && incremental()) {
-    // The merges as the last round decided them. Poses from the last round's solve with merges,
-    // moved as the loop closures' solve moved them since: P_now P_then^-1 S_then.
-    std::map<NodeId, Eigen::Isometry3d> last_proposal;
-    DeformationWarmStart last = lastRound(graph, team, true, &last_proposal);
-    PoseLookup proposed_then(last_proposal), skeleton_then(last.last_skeleton);
-    for (auto& [id, pose] : warm.poses) {
-      const Eigen::Isometry3d* then = proposed_then.find(id);
-      const Eigen::Isometry3d* skeleton = skeleton_then.find(id);
-      if (then != nullptr && skeleton != nullptr) pose = pose * then->inverse() * *skeleton;
-    }
-    warm.last_whole = std::move(last.last_whole);
-    warm.last_skeleton = std::move(last.last_skeleton);
-    for (const PoseGraphEdge& e : merges) {
-      const auto verdict = last.verdicts.find({e.from, e.to});
-      if (verdict != last.verdicts.end()) {
-        warm.verdicts.insert(*verdict);
-        if (verdict->second) held_out.erase(verdict->first);  // kept last round: known
-      } else if (options_.admit_fitting_merges) {
-        warm.admit_if_fitting.insert({e.from, e.to});  // new: known where it fits the start
-      }
-    }
-  }
-  // The backend graph's nodes, edges and mesh need no pose: made on a second thread meanwhile, and
-  // the merges GNC kept made in it there too, once GNC has decided them, while the whole graph is
-  // solved (planMerges; their positions fused once the graph is placed, placeMerged).
-  std::future<SceneGraph> unplaced = std::async(std::launch::async, [&frontend, &team, &graph] {
-    return unplacedMap(frontend, team.inputs, graph);
-  });
-  std::future<std::pair<SceneGraph, MergePlan>> planned;
+  const std::map<NodeId, Eigen::Isometry3d> proposal_poses = proposals.solved.poses;
+  DeformationWarmStart warm =
+      startWithMerges(graph, team, std::move(proposals.solved), merges, held_out, report);
+  MapInProgress made = startBackendGraph(frontend, team, graph);
   const double window_s = options_.deformation.link_max_dt_s;
   const auto planWhenDecided = [&](const RobustVerdicts& verdicts) {
-    planned =
+    made.planned =
         std::async(std::launch::async, [&, kept = keptCandidates(proposals.candidates, verdicts)] {
-          SceneGraph map = unplaced.get();
+          SceneGraph map = made.unplaced.get();
           MergePlan plan = planMerges(map, frontend, proposals.candidates, kept, team.meshes,
                                       window_s, options_.reconciliation);
           return std::make_pair(std::move(map), std::move(plan));
@@ -418,44 +349,13 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   recordVerdicts(team, inter_robot, result, report);
   // What the next round starts from, kept on the second thread while this one makes its graph.
   std::future<void> remembered = std::async(std::launch::async, [&] {
-    rememberForNextRound(frontend, graph, result, proposal_poses, proposals.held_out,
-                         team.T_global_robot);
+    memory_.remember(frontend, graph, result, proposal_poses, proposals.held_out,
+                     team.T_global_robot, options_.incremental);
   });
 
   // 4. The backend graph, and the merges GNC kept.
-  if (!incremental()) mesh_bindings_.clear();
-  std::map<RobotId, MeshBinding> fresh;
-  std::map<RobotId, MeshBinding>& bindings = incremental() ? mesh_bindings_ : fresh;
-  // A keyframe or place without a pose leaves the graph before any merge (placeMap), so where one
-  // lacks it the merges are made again after (mergeKept).
-  SceneGraph map;
-  std::optional<MergePlan> plan;
-  if (planned.valid()) {
-    auto [merged_map, made] = planned.get();
-    if (posedEverywhere(result.poses, graph.initial)) {
-      map = std::move(merged_map);
-      plan = std::move(made);
-    } else {
-      map = unplacedMap(frontend, team.inputs, graph);
-    }
-  } else {
-    map = unplaced.get();
-  }
-  std::map<NodeId, Placement> placements;
-  if (plan) placements = mergedNodes(*plan);
-  placeMap(map, frontend, team.inputs, graph, result.poses, options_.deformation,
-           options_.mesh_neighbours, &optimized_first_keyframes_, &bindings,
-           plan ? &placements : nullptr);
-  for (const auto& [robot, binding] : bindings) report.vertices_blended += binding.reblended;
-  report.merges_proposed = proposals.candidates.size();
-  MergeOutcome merged = plan ? placeMerged(map, std::move(*plan), std::move(placements), frontend,
-                                           team.meshes, options_.reconciliation, window_s)
-                             : mergeKept(map, frontend, proposals.candidates, result.robust_inlier,
-                                         team.meshes, options_.reconciliation, window_s);
-  merges_ = std::move(merged.merges);
-  report.merges_accepted = merged.accepted;
-  report.merges_undone = merged.undone;
-  report.label_merges = merged.label_merges;
+  SceneGraph map =
+      placeBackendGraph(frontend, team, graph, result, proposals.candidates, made, report);
   report.graph_s = lap();
 
   // 5. Rooms.

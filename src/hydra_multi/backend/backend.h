@@ -8,19 +8,22 @@
 //      come back only where they fit the result; deformation_graph.h); reconciliation proposals
 //      on that solution as merge factors (reconciliation.h);
 //   3. the graph with the merge factors, held out in the same way, solved again (GNC on the
-//      skeleton, then the whole graph once), the loop closures taken as step 2 decided them
-//      (known inliers, or held out to be taken back where they fit);
+//      skeleton, then the whole graph once) from startWithMerges, the loop closures taken as
+//      step 2 decided them (known inliers, or held out to be taken back where they fit);
 //   4. the backend graph (optimized_map.h: unplacedMap, made on a second thread while step 3
-//      solves, then placeMap), and the merges GNC kept or none (node_merging.h), made in it on
-//      that thread while the whole graph is solved, their positions fused once it is placed;
+//      solves, startBackendGraph; then placeBackendGraph), and the merges GNC kept or none
+//      (node_merging.h), made in it on that thread while the whole graph is solved, their
+//      positions fused once it is placed;
 //   5. rooms segmented over the optimized places (room_segmentation.h).
 // Robots not aligned yet are left out of the backend graph until they are. Incremental rounds
-// (BackendOptions::incremental) start GNC where the last round ended; a robot whose alignment
-// changed starts afresh. Merges are proposed anew every round (ICP's verdict on an object pair
-// reused while the pair keeps its relative placement, IcpCache), and one kept before is decided
-// again when the result contradicts it, so a merge later rounds no longer support is undone.
+// (BackendOptions::incremental) start GNC where the last round ended (round_memory.h); a robot
+// whose alignment changed starts afresh. Merges are proposed anew every round (ICP's verdict on
+// an object pair reused while the pair keeps its relative placement, IcpCache), and one kept
+// before is decided again when the result contradicts it, so a merge later rounds no longer
+// support is undone.
 // docs/DECISIONS.md: "Factors held out of GNC", "Rounds start where the last one ended".
 
+#include <future>
 #include <map>
 #include <memory>
 #include <set>
@@ -32,6 +35,7 @@
 #include "hydra_multi/backend/optimized_map.h"
 #include "hydra_multi/backend/reconciliation.h"
 #include "hydra_multi/backend/room_segmentation.h"
+#include "hydra_multi/backend/round_memory.h"
 #include "hydra_multi/core/nearest_neighbors.h"
 
 namespace hydra_multi {
@@ -190,20 +194,16 @@ class Backend {
              const std::vector<PoseGraphEdge>& inter_robot, RobotId root,
              const std::vector<double>& support);
   Team alignedTeam(const std::vector<BackendRobot>& robots) const;
-  /// The robots of `team` aligned as in the last round.
-  std::set<RobotId> alignedAsBefore(const Team& team) const;
   /// Inter-robot loop closures the alignment's consensus rejected: held out of GNC.
   std::set<std::pair<NodeId, NodeId>> alignmentOutliers() const;
-  /// Where the last round left the robots aligned as they were (BackendOptions::incremental):
-  /// its verdicts on robust factors, and with `poses` the poses of `graph`'s skeleton, those of
-  /// its last two solves (DeformationWarmStart::last_whole, last_skeleton) and, into
-  /// `last_proposal`, those of its loop closures' solve (into `last_held_out`, those of that
-  /// solve before its re-admission). A skeleton node new since then moves in these as its
-  /// robot's latest keyframe moved.
+  /// RoundMemory::lastRound for the robots of `team`, in an incremental round (else nothing).
   DeformationWarmStart lastRound(
       const DeformationGraph& graph, const Team& team, bool poses = true,
       std::map<NodeId, Eigen::Isometry3d>* last_proposal = nullptr,
-      std::map<NodeId, Eigen::Isometry3d>* last_held_out = nullptr) const;
+      std::map<NodeId, Eigen::Isometry3d>* last_held_out = nullptr) const {
+    if (!incremental()) return {};
+    return memory_.lastRound(graph, team.T_global_robot, poses, last_proposal, last_held_out);
+  }
   bool incremental() const { return options_.incremental && !from_scratch_; }
   /// The deformation graph without merges solved (its skeleton), and the merge candidates
   /// proposed and checked on that solution.
@@ -213,11 +213,30 @@ class Backend {
                                       BackendRoundReport& report) const;
   void recordVerdicts(const Team& team, const std::vector<PoseGraphEdge>& inter_robot,
                       const DeformationResult& result, BackendRoundReport& report);
-  void rememberForNextRound(const SceneGraph& frontend, const DeformationGraph& graph,
-                            const DeformationResult& result,
-                            const std::map<NodeId, Eigen::Isometry3d>& proposal_poses,
-                            const std::map<NodeId, Eigen::Isometry3d>& held_out_poses,
-                            const std::map<RobotId, Eigen::Isometry3d>& T_global_robot);
+  /// Where the solve with merges starts (step 3): the loop closures' solve `solved` and the
+  /// verdicts it made (the loop closures it kept leave `held_out`), in an incremental round moved
+  /// as the last round's solve with merges was and with the last round's verdicts on the merges;
+  /// without that solve, the last round's.
+  DeformationWarmStart startWithMerges(const DeformationGraph& graph, const Team& team,
+                                       DeformationWarmStart solved,
+                                       const std::vector<PoseGraphEdge>& merges,
+                                       std::set<std::pair<NodeId, NodeId>>& held_out,
+                                       BackendRoundReport& report) const;
+  /// The backend graph made on second threads while the deformation graph is solved: its nodes,
+  /// edges and mesh, which need no pose (unplacedMap), and then the merges GNC kept in it
+  /// (planMerges, started by the solve's `decided` callback).
+  struct MapInProgress {
+    std::future<SceneGraph> unplaced;
+    std::future<std::pair<SceneGraph, MergePlan>> planned;
+  };
+  MapInProgress startBackendGraph(const SceneGraph& frontend, const Team& team,
+                                  const DeformationGraph& graph) const;
+  /// Step 4: that graph placed by the solve (placeMap) with the merges GNC kept (placeMerged, or
+  /// mergeKept where the plan cannot be used), the mesh deformed where control points moved.
+  SceneGraph placeBackendGraph(const SceneGraph& frontend, const Team& team,
+                               const DeformationGraph& graph, const DeformationResult& result,
+                               const std::vector<MergeCandidate>& candidates, MapInProgress& made,
+                               BackendRoundReport& report);
 
   BackendOptions options_;
   InitialAlignment alignment_;
@@ -227,19 +246,8 @@ class Backend {
   std::map<std::pair<NodeId, NodeId>, bool> inliers_;
   std::vector<AcceptedMerge> merges_;
   std::vector<LoopClosureVerdict> verdicts_;
-  bool from_scratch_ = false;  // this round's
-  // For the next round (BackendOptions::incremental): per node of the deformation graph, the
-  // motion (optimized * initial^-1, global frame) the last round's whole-graph solve gave it, and
-  // per skeleton node those of GNC's solve with merges and of the loop closures' solve (with and
-  // without what it re-admitted); per robot, those of its latest keyframe, and its alignment; the
-  // loop closures' verdicts.
-  std::map<NodeId, Eigen::Isometry3d> corrections_;
-  std::map<NodeId, Eigen::Isometry3d> skeleton_corrections_;
-  std::map<NodeId, Eigen::Isometry3d> proposal_corrections_, held_out_corrections_;
-  std::map<RobotId, Eigen::Isometry3d> latest_corrections_, latest_proposal_corrections_,
-      latest_held_out_corrections_;
-  std::map<RobotId, Eigen::Isometry3d> last_alignment_;
-  std::map<std::pair<NodeId, NodeId>, bool> last_verdicts_;
+  bool from_scratch_ = false;   // this round's
+  RoundMemory memory_;          // what the next round starts from (BackendOptions::incremental)
   mutable IcpCache icp_cache_;  // ICP's verdicts on object pairs, for incremental rounds
   std::map<RobotId, MeshBinding> mesh_bindings_;  // each robot's mesh, for incremental rounds
 };
