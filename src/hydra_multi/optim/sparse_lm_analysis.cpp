@@ -1,0 +1,270 @@
+// SparseLevenbergMarquardt's analysis, once per pattern: the free poses, the chains and leaves
+// eliminated before CHOLMOD, the blocks of H, their fill-reducing order and CHOLMOD's symbolic
+// factorization of the rest.
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "hydra_multi/optim/fill_reducing_ordering.h"
+#include "hydra_multi/optim/sparse_lm_impl.h"
+#include "hydra_multi/optim/suitesparse_blocks.h"
+
+namespace hydra_multi {
+
+using namespace sparse_lm;
+
+namespace {
+
+constexpr size_t kBothOrderingsFrom = 5000;  // variables
+
+// The order in which to eliminate variables of a graph (`neighbours`: per variable, the others a
+// term joins it to): one by one, any joined to at most two others (a pose of a chain, a leaf), its
+// neighbours then joined to each other; at least one variable is left. Per elimination, the
+// variable and its neighbours then (kNone where fewer).
+std::vector<std::pair<long, std::array<long, 2>>> chainsAndLeaves(
+    std::vector<std::vector<long>> neighbours) {
+  for (auto& list : neighbours) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+  const auto unlink = [&](long from, long v) {
+    auto& list = neighbours[from];
+    list.erase(std::lower_bound(list.begin(), list.end(), v));
+  };
+  const auto link = [&](long a, long b) {
+    auto& list = neighbours[a];
+    const auto at = std::lower_bound(list.begin(), list.end(), b);
+    if (at == list.end() || *at != b) list.insert(at, b);
+  };
+  std::vector<std::pair<long, std::array<long, 2>>> order;
+  std::vector<char> eliminated(neighbours.size(), 0);
+  std::vector<long> candidates;
+  for (size_t v = neighbours.size(); v-- > 0;) {
+    if (neighbours[v].size() <= 2) candidates.push_back(static_cast<long>(v));
+  }
+  size_t kept = neighbours.size();
+  while (!candidates.empty() && kept > 1) {
+    const long v = candidates.back();
+    candidates.pop_back();
+    if (eliminated[v] || neighbours[v].size() > 2) continue;
+    std::array<long, 2> u{kNone, kNone};
+    for (size_t k = 0; k < neighbours[v].size(); ++k) u[k] = neighbours[v][k];
+    for (const long w : neighbours[v]) unlink(w, v);
+    if (u[1] != kNone) {
+      link(u[0], u[1]);
+      link(u[1], u[0]);
+    }
+    neighbours[v].clear();
+    eliminated[v] = 1;
+    --kept;
+    order.emplace_back(v, u);
+    for (const long w : u) {
+      if (w != kNone && neighbours[w].size() <= 2) candidates.push_back(w);
+    }
+  }
+  return order;
+}
+
+}  // namespace
+
+void SparseLevenbergMarquardt::Impl::analyze(size_t num_poses, const std::vector<bool>& fixed) {
+  Impl& m = *this;
+  keepSuiteSparseBlocks();  // the factor of the last problem, reused without page faults
+  cholmod_l_start(&m.common);
+  m.common.print = 0;
+  m.common.error_handler = nullptr;
+  m.variable.assign(num_poses, kNone);
+  for (size_t p = 0; p < num_poses; ++p) {
+    if (p >= fixed.size() || !fixed[p]) m.variable[p] = static_cast<long>(m.variables++);
+  }
+  // The variables eliminated before CHOLMOD, and the fill between their neighbours.
+  std::vector<std::vector<long>> neighbours(m.variables);
+  for (const LmTerm& t : m.terms) {
+    const long a = m.variable[t.i], b = m.variable[t.j];
+    if (a == kNone || b == kNone || a == b) continue;
+    neighbours[a].push_back(b);
+    neighbours[b].push_back(a);
+  }
+  std::vector<char> eliminated(m.variables, 0);
+  std::vector<std::pair<long, long>> fill;
+  for (const auto& [v, u] : chainsAndLeaves(std::move(neighbours))) {
+    Impl::Elimination e;
+    e.v = v;
+    e.u = u;
+    eliminated[v] = 1;
+    if (u[1] != kNone) fill.emplace_back(u[0], u[1]);
+    m.eliminations.push_back(e);
+  }
+  // The blocks of H: per variable column, its rows (itself, the variables a term joins it to
+  // from above, and the fill).
+  std::vector<std::vector<long>> rows(m.variables);
+  for (size_t v = 0; v < m.variables; ++v) rows[v].push_back(static_cast<long>(v));
+  for (const LmTerm& t : m.terms) {
+    const long a = m.variable[t.i], b = m.variable[t.j];
+    if (a == kNone || b == kNone || a == b) continue;
+    rows[std::max(a, b)].push_back(std::min(a, b));
+  }
+  for (const auto& [a, b] : fill) rows[std::max(a, b)].push_back(std::min(a, b));
+  for (auto& list : rows) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+  // Block ids, column by column; per block its (row, column) variables.
+  std::vector<std::vector<long>> block_of(m.variables);  // per column, per row in `rows`
+  std::vector<std::pair<long, long>> block_at;
+  for (size_t c = 0; c < m.variables; ++c) {
+    for (const long r : rows[c]) {
+      block_of[c].push_back(static_cast<long>(block_at.size()));
+      block_at.emplace_back(r, static_cast<long>(c));
+    }
+  }
+  m.diagonal_block.resize(m.variables);
+  for (size_t c = 0; c < m.variables; ++c) m.diagonal_block[c] = block_of[c].back();
+  const auto blockOf = [&](long r, long c) {
+    if (r > c) std::swap(r, c);
+    const auto& list = rows[c];
+    const size_t k = std::lower_bound(list.begin(), list.end(), r) - list.begin();
+    return block_of[c][k];
+  };
+  m.term_blocks.resize(m.terms.size());
+  for (size_t k = 0; k < m.terms.size(); ++k) {
+    const long a = m.variable[m.terms[k].i], b = m.variable[m.terms[k].j];
+    Impl::TermBlocks& tb = m.term_blocks[k];
+    if (a != kNone) tb.ii = m.diagonal_block[a];
+    if (b != kNone) tb.jj = m.diagonal_block[b];
+    if (a != kNone && b != kNone && a != b) tb.ij = blockOf(a, b);
+  }
+  double elimination_flops = 0.0;  // CHOLMOD's count for their columns: sum of squared counts
+  for (Impl::Elimination& e : m.eliminations) {
+    const int degree = (e.u[0] != kNone) + (e.u[1] != kNone);
+    for (int c = 0; c < 6; ++c) elimination_flops += std::pow(6.0 - c + 6.0 * degree, 2);
+    for (int n = 0; n < degree; ++n) {
+      e.vu[n] = blockOf(e.v, e.u[n]);
+      e.uu[n] = m.diagonal_block[e.u[n]];
+    }
+    if (degree == 2) e.u01 = blockOf(e.u[0], e.u[1]);
+  }
+  // A: the variables not eliminated, with their blocks.
+  std::vector<long> reduced(m.variables, kNone);
+  for (size_t v = 0; v < m.variables; ++v) {
+    if (!eliminated[v]) reduced[v] = static_cast<long>(m.reduced++);
+  }
+  const auto inA = [&](size_t k) {
+    return !eliminated[block_at[k].first] && !eliminated[block_at[k].second];
+  };
+  std::vector<std::vector<long>> reduced_rows(m.reduced);
+  size_t nonzeros = 0, tail_blocks = 0;
+  for (size_t k = 0; k < block_at.size(); ++k) {
+    if (!inA(k)) {
+      ++tail_blocks;
+      continue;
+    }
+    const long r = reduced[block_at[k].first], c = reduced[block_at[k].second];
+    reduced_rows[c].push_back(r);
+    nonzeros += r == c ? 21 : 36;
+  }
+  const size_t n = 6 * m.reduced;
+  // A's block columns in the triangle `stype` (-1 lower, +1 upper), variables placed at
+  // `position`: per column, its blocks (row, H's block) sorted by row.
+  const auto placeBlocks = [&](const std::vector<long>& position, int stype) {
+    std::vector<std::vector<std::pair<long, long>>> columns(m.reduced);
+    for (size_t k = 0; k < block_at.size(); ++k) {
+      if (!inA(k)) continue;
+      const long pr = position[block_at[k].first], pc = position[block_at[k].second];
+      const long low = std::min(pr, pc), high = std::max(pr, pc);
+      if (stype < 0) {
+        columns[low].emplace_back(high, static_cast<long>(k));
+      } else {
+        columns[high].emplace_back(low, static_cast<long>(k));
+      }
+    }
+    for (auto& column : columns) std::sort(column.begin(), column.end());
+    return columns;
+  };
+  // A as a CHOLMOD matrix (values zero; only the pattern for `values` false) and, with `values`,
+  // `column` and `transposed`, the eliminated blocks' values after A's. An entry (i, j) of A's
+  // block at (R, C) is H's entry (i, j) of its block where R is that block's row variable and R !=
+  // C, else (j, i); a diagonal block keeps one triangle.
+  const auto store = [&](const std::vector<long>& position, int stype, bool values) {
+    const auto columns = placeBlocks(position, stype);
+    cholmod_sparse* A = cholmod_l_allocate_sparse(
+        n, n, nonzeros + (values ? 36 * tail_blocks : 0), /*sorted=*/1, /*packed=*/1, stype,
+        values ? CHOLMOD_REAL : CHOLMOD_PATTERN, &m.common);
+    if (A == nullptr) return A;
+    auto* column_start = static_cast<SuiteSparse_long*>(A->p);
+    auto* row_index = static_cast<SuiteSparse_long*>(A->i);
+    if (values) {
+      m.column.assign(6 * block_at.size(), kNone);
+      m.transposed.assign(block_at.size(), 0);
+    }
+    long at = 0;
+    for (size_t C = 0; C < m.reduced; ++C) {
+      for (int j = 0; j < 6; ++j) {
+        column_start[6 * C + j] = at;
+        for (const auto& [R, k] : columns[C]) {
+          const bool diagonal = R == static_cast<long>(C);
+          const bool as_stored = !diagonal && position[block_at[k].first] == R;
+          const int first = diagonal && stype < 0 ? j : 0;
+          const int last = diagonal && stype > 0 ? j : 5;
+          if (values) {
+            m.column[6 * k + j] = at - first;
+            m.transposed[k] = !as_stored && !(diagonal && stype > 0);
+          }
+          for (int i = first; i <= last; ++i) row_index[at++] = 6 * R + i;
+        }
+      }
+    }
+    column_start[n] = at;
+    if (values) {
+      for (size_t k = 0; k < block_at.size(); ++k) {
+        if (inA(k)) continue;
+        for (int c = 0; c < 6; ++c) m.column[6 * k + c] = at + 6 * c;
+        at += 36;
+      }
+      std::fill_n(static_cast<double*>(A->x), at, 0.0);
+    }
+    return A;
+  };
+  // Fill-reducing ordering of A's variables, once.
+  for (auto& list : reduced_rows) std::sort(list.begin(), list.end());
+  const std::optional<FillReducingOrdering> ordering =
+      orderForCholesky(reduced_rows, kBothOrderingsFrom);
+  if (!ordering) return;                           // solve() reports it
+  std::vector<long> position(m.variables, kNone);  // variable -> its place in A
+  for (size_t v = 0; v < m.variables; ++v) {
+    if (reduced[v] != kNone) position[v] = reduced[v];
+  }
+  std::vector<long> place(m.reduced);
+  for (size_t k = 0; k < m.reduced; ++k) place[ordering->column[k]] = static_cast<long>(k);
+  for (long& p : position) {
+    if (p != kNone) p = place[p];
+  }
+  m.permuted.assign(6 * m.variables, kNone);
+  for (size_t v = 0; v < m.variables; ++v) {
+    for (int c = 0; c < 6 && position[v] != kNone; ++c) m.permuted[6 * v + c] = 6 * position[v] + c;
+  }
+  // The symbolic factorization of A in its natural order, which the ordering already postordered;
+  // small supernodes merged more than by default.
+  m.common.nrelax[0] = 8;
+  m.common.nrelax[1] = 32;
+  m.common.nrelax[2] = 256;
+  m.common.zrelax[0] = 0.8;
+  m.common.zrelax[1] = 0.2;
+  m.common.zrelax[2] = 0.1;
+  m.H = store(position, -1, true);
+  if (m.H == nullptr) return;
+  m.common.supernodal = CHOLMOD_AUTO;
+  m.common.final_asis = 1;  // the factor as computed: no conversion after each factorization
+  m.common.postorder = 0;
+  m.common.nmethods = 1;
+  m.common.method[0].ordering = CHOLMOD_NATURAL;
+  m.L = cholmod_l_analyze(m.H, &m.common);
+  if (m.L != nullptr) m.flops = m.common.fl + elimination_flops;
+  if (m.L != nullptr && !m.L->is_super) {
+    cholmod_l_free_sparse(&m.H, &m.common);
+    m.H = store(position, 1, true);
+  }
+}
+
+}  // namespace hydra_multi
