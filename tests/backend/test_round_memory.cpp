@@ -71,7 +71,7 @@ TEST_F(RoundMemoryTest, ANodeNewSinceMovesAsItsRobotsLatestKeyframe) {
   const DeformationGraph later = next();
   std::map<NodeId, Eigen::Isometry3d> last_proposal, last_held_out;
   const DeformationWarmStart warm =
-      memory.lastRound(later, alignment, true, &last_proposal, &last_held_out);
+      memory.lastRound(later, alignment, &last_proposal, &last_held_out);
 
   ASSERT_EQ(warm.poses.size(), 4u);
   for (const NodeId id : {a0, a1, b0}) {
@@ -101,7 +101,7 @@ TEST_F(RoundMemoryTest, ARobotAlignedOtherwiseTakesNothing) {
 
   std::map<NodeId, Eigen::Isometry3d> last_proposal, last_held_out;
   const DeformationWarmStart warm =
-      memory.lastRound(graph, realigned, true, &last_proposal, &last_held_out);
+      memory.lastRound(graph, realigned, &last_proposal, &last_held_out);
   using Poses = std::map<NodeId, Eigen::Isometry3d>;
   for (const Poses* poses : std::vector<const Poses*>{
            &warm.poses, &warm.last_whole, &warm.last_skeleton, &last_proposal, &last_held_out}) {
@@ -115,16 +115,15 @@ TEST_F(RoundMemoryTest, ARobotAlignedOtherwiseTakesNothing) {
 TEST_F(RoundMemoryTest, WithoutPosesOnlyTheAlignmentIsKept) {
   RoundMemory memory;
   memory.remember(frontend, graph, result, proposal, held_out, alignment, true);
-  // Verdicts without poses.
-  const DeformationWarmStart verdicts = memory.lastRound(graph, alignment, false, nullptr, nullptr);
-  EXPECT_TRUE(verdicts.poses.empty());
-  EXPECT_TRUE(verdicts.last_whole.empty());
-  EXPECT_EQ(verdicts.verdicts, result.robust_inlier);
+  // Kept: poses and verdicts.
+  const DeformationWarmStart kept = memory.lastRound(graph, alignment);
+  EXPECT_EQ(kept.poses.size(), 3u);
+  EXPECT_EQ(kept.verdicts, result.robust_inlier);
 
   // A round that keeps no poses forgets the ones before it.
   memory.remember(frontend, graph, result, proposal, held_out, alignment, false);
   EXPECT_EQ(memory.alignedAsBefore(alignment), (std::set<RobotId>{r1, r2}));
-  const DeformationWarmStart warm = memory.lastRound(graph, alignment, true, nullptr, nullptr);
+  const DeformationWarmStart warm = memory.lastRound(graph, alignment);
   EXPECT_TRUE(warm.poses.empty());
   EXPECT_TRUE(warm.last_whole.empty());
   EXPECT_TRUE(warm.last_skeleton.empty());

@@ -130,7 +130,7 @@ Backend::Proposals Backend::proposeOnLoopClosureSolve(
   const DeformationGraph graph =
       buildDeformationGraph(frontend, team.inputs, loop_closures, {}, skeleton);
   std::map<NodeId, Eigen::Isometry3d> last_proposal, last_held_out;
-  DeformationWarmStart warm = lastRound(graph, team, true, &last_proposal, &last_held_out);
+  DeformationWarmStart warm = lastRound(graph, team, &last_proposal, &last_held_out);
   // This solve's own optimum; GNC and the first polish from the one without what it re-admitted,
   // the solve after the re-admission moved as it moved then.
   for (const auto& [id, pose] : last_proposal) warm.poses[id] = pose;
@@ -200,7 +200,7 @@ DeformationWarmStart Backend::startWithMerges(const DeformationGraph& graph, con
   // The merges as the last round decided them. Poses from the last round's solve with merges,
   // moved as the loop closures' solve moved them since: P_now P_then^-1 S_then.
   std::map<NodeId, Eigen::Isometry3d> last_proposal;
-  DeformationWarmStart last = lastRound(graph, team, true, &last_proposal);
+  DeformationWarmStart last = lastRound(graph, team, &last_proposal);
   PoseLookup proposed_then(last_proposal), skeleton_then(last.last_skeleton);
   for (auto& [id, pose] : warm.poses) {
     const Eigen::Isometry3d* then = proposed_then.find(id);

@@ -198,11 +198,11 @@ class Backend {
   std::set<std::pair<NodeId, NodeId>> alignmentOutliers() const;
   /// RoundMemory::lastRound for the robots of `team`, in an incremental round (else nothing).
   DeformationWarmStart lastRound(
-      const DeformationGraph& graph, const Team& team, bool poses = true,
+      const DeformationGraph& graph, const Team& team,
       std::map<NodeId, Eigen::Isometry3d>* last_proposal = nullptr,
       std::map<NodeId, Eigen::Isometry3d>* last_held_out = nullptr) const {
     if (!incremental()) return {};
-    return memory_.lastRound(graph, team.T_global_robot, poses, last_proposal, last_held_out);
+    return memory_.lastRound(graph, team.T_global_robot, last_proposal, last_held_out);
   }
   bool incremental() const { return options_.incremental && !from_scratch_; }
   /// The deformation graph without merges solved (its skeleton), and the merge candidates

@@ -82,7 +82,7 @@ std::set<RobotId> RoundMemory::alignedAsBefore(
 
 DeformationWarmStart RoundMemory::lastRound(
     const DeformationGraph& graph, const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
-    bool poses, std::map<NodeId, Eigen::Isometry3d>* last_proposal,
+    std::map<NodeId, Eigen::Isometry3d>* last_proposal,
     std::map<NodeId, Eigen::Isometry3d>* last_held_out) const {
   DeformationWarmStart warm;
   const std::set<RobotId> kept = alignedAsBefore(T_global_robot);
@@ -102,7 +102,7 @@ DeformationWarmStart RoundMemory::lastRound(
   // The nodes are visited in id order: each map grows at its end, each correction is walked once.
   PoseLookup whole(whole_), proposal(proposal_), held(held_out_);
   for (const auto& [id, initial] : graph.skeleton.poses) {
-    if (!poses || !ofKept(id)) continue;
+    if (!ofKept(id)) continue;
     if (const auto pose = moved(whole, latest_whole_, id, initial))
       warm.poses.emplace_hint(warm.poses.end(), id, *pose);
     if (last_proposal == nullptr) continue;
@@ -115,7 +115,6 @@ DeformationWarmStart RoundMemory::lastRound(
   for (const auto& [edge, inlier] : verdicts_) {
     if (ofKept(edge.first) && ofKept(edge.second)) warm.verdicts[edge] = inlier;
   }
-  if (!poses) return warm;
   // A graph assembled only as far as its skeleton (buildDeformationGraph) is solved no further:
   // its solve reads the earlier solutions of skeleton nodes alone.
   const std::map<NodeId, Eigen::Isometry3d>& nodes =

@@ -33,13 +33,13 @@ class RoundMemory {
       const std::map<RobotId, Eigen::Isometry3d>& T_global_robot) const;
 
   /// Where the last round left the robots aligned as they were: its verdicts on robust factors,
-  /// and with `poses` the poses of `graph`'s skeleton, those of its last two solves
+  /// the poses of `graph`'s skeleton, those of its last two solves
   /// (DeformationWarmStart::last_whole, last_skeleton) and, into `last_proposal`, those of its
   /// loop closures' solve (into `last_held_out`, that solve's before its re-admission).
-  DeformationWarmStart lastRound(const DeformationGraph& graph,
-                                 const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
-                                 bool poses, std::map<NodeId, Eigen::Isometry3d>* last_proposal,
-                                 std::map<NodeId, Eigen::Isometry3d>* last_held_out) const;
+  DeformationWarmStart lastRound(
+      const DeformationGraph& graph, const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
+      std::map<NodeId, Eigen::Isometry3d>* last_proposal = nullptr,
+      std::map<NodeId, Eigen::Isometry3d>* last_held_out = nullptr) const;
 
  private:
   std::map<NodeId, Eigen::Isometry3d> whole_, skeleton_, proposal_, held_out_;
