@@ -250,6 +250,14 @@ TEST(DeformationGraph, AWarmStartedRoundSolvesTheWholeGraphOnlyWhereItChanged) {
   for (const auto& [id, pose] : whole.poses)
     apart = std::max(apart, (local.poses.at(id).translation() - pose.translation()).norm());
   EXPECT_LT(apart, 0.01);
+  // More changed than local_max_share allows: the whole graph, as without the option.
+  DeformationGraphOptions narrow = options;
+  narrow.local_max_share =
+      0.5 * static_cast<double>(local.whole_graph_free) / static_cast<double>(graph.initial.size());
+  const DeformationResult over = optimizeDeformationGraph(graph, narrow, {}, &warm);
+  EXPECT_EQ(over.whole_graph_free, graph.initial.size());
+  for (const auto& [id, pose] : whole.poses)
+    EXPECT_TRUE(over.poses.at(id).isApprox(pose, 1e-12)) << id.str();
 }
 
 // Robots a and b of the circle, true loop closures between them, and one object per robot beside

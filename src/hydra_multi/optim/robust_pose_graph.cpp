@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "hydra_multi/optim/pose_graph_chains.h"
 #include "hydra_multi/optim/robust_solve.h"
@@ -124,33 +125,40 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
   // Leaves: poses with one edge, a known inlier (not a loop closure), other than the anchor and
   // the poses held constant. The held-out factors of a solve that is not robust count for nothing.
   const EdgeFlags flags{options.held_out, options.known_inlier};
+  // Each pose's count of included edges: between two poses of `initial`, not a self-loop, and,
+  // unless the solve is robust, not held out.
   std::unordered_map<NodeId, int> degree;
-  const auto included = [&](size_t k) {
-    const PoseGraphEdge& e = graph.edges[k];
-    return e.from != e.to && initial.count(e.from) && initial.count(e.to) &&
-           (options.robust || !flags.heldOut(k));
-  };
+  degree.reserve(initial.size());
+  for (const auto& [id, pose] : initial) degree.emplace(id, 0);
+  std::vector<char> included(graph.edges.size(), 0);
   for (size_t k = 0; k < graph.edges.size(); ++k) {
-    if (!included(k)) continue;
-    ++degree[graph.edges[k].from];
-    ++degree[graph.edges[k].to];
+    const PoseGraphEdge& e = graph.edges[k];
+    if (e.from == e.to || (!options.robust && flags.heldOut(k))) continue;
+    const auto from = degree.find(e.from), to = degree.find(e.to);
+    if (from == degree.end() || to == degree.end()) continue;
+    included[k] = 1;
+    ++from->second;
+    ++to->second;
   }
   const auto isLeaf = [&](NodeId id) {
-    return id != anchor && degree[id] == 1 && options.constant.count(id) == 0;
+    return id != anchor && degree.at(id) == 1 && options.constant.count(id) == 0;
   };
   std::vector<size_t> leaf_edges;
+  std::unordered_set<NodeId> leaves;
   for (size_t k = 0; k < graph.edges.size(); ++k) {
     const PoseGraphEdge& e = graph.edges[k];
-    if (included(k) && e.kind != PoseGraphEdge::Kind::kLoopClosure &&
-        isLeaf(e.from) != isLeaf(e.to))
-      leaf_edges.push_back(k);
+    if (!included[k] || e.kind == PoseGraphEdge::Kind::kLoopClosure) continue;
+    const bool from = isLeaf(e.from), to = isLeaf(e.to);
+    if (from == to) continue;
+    leaf_edges.push_back(k);
+    leaves.insert(to ? e.to : e.from);
   }
   // Without the leaves' poses the problem leaves their edges out: no copy of the graph.
   std::map<NodeId, Eigen::Isometry3d> reduced_initial;
-  if (!leaf_edges.empty()) reduced_initial = initial;
-  for (const size_t k : leaf_edges) {
-    const PoseGraphEdge& e = graph.edges[k];
-    reduced_initial.erase(isLeaf(e.to) ? e.to : e.from);
+  if (!leaf_edges.empty()) {
+    for (const auto& [id, pose] : initial) {
+      if (!leaves.count(id)) reduced_initial.emplace_hint(reduced_initial.end(), id, pose);
+    }
   }
   RobustPgoResult result = optimizeWithoutLeaves(
       graph, leaf_edges.empty() ? initial : reduced_initial, anchor, options, flags);
@@ -168,7 +176,7 @@ RobustPgoResult optimizePoseGraph(const PoseGraph& graph,
       const auto it = result.poses.find(id);
       return it != result.poses.end() ? it->second : initial.at(id);
     };
-    if (isLeaf(e.to))
+    if (leaves.count(e.to))
       result.poses[e.to] = at(e.from) * e.T_from_to;
     else
       result.poses[e.from] = at(e.to) * e.T_from_to.inverse();
