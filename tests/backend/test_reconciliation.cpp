@@ -177,8 +177,8 @@ TEST(Reconciliation, ObjectMergesCheckedWhereTheSolveMovedThem) {
 }
 
 // ICP's verdict on a pair is kept for the next check: both copies moved together (a common rigid
-// motion) take it without ICP, the same measurement; one copy turned against the other is checked
-// again.
+// motion) take it without ICP, the same measurement, as does one copy moved within icp_reuse_m of
+// the other; one copy moved further, or turned against the other, is checked again.
 TEST(Reconciliation, IcpVerdictsAreReusedWhileThePairKeepsItsRelativePlacement) {
   const Eigen::Vector3d size(1.2, 0.6, 0.9);
   Eigen::Isometry3d at = Eigen::Isometry3d::Identity();
@@ -210,6 +210,18 @@ TEST(Reconciliation, IcpVerdictsAreReusedWhileThePairKeepsItsRelativePlacement) 
   EXPECT_EQ(cache.reused, 1u);
   EXPECT_EQ(cache.computed, 0u);
   EXPECT_EQ(again[0].T_target_source->matrix(), first[0].T_target_source->matrix());
+
+  // b's copy 5 mm off where ICP checked it: within icp_reuse_m the verdict stands, beyond it ICP
+  // runs again.
+  Eigen::Isometry3d nudged = Eigen::Isometry3d::Identity();
+  nudged.translation() = Eigen::Vector3d(0.0, 0.005, 0.0);
+  const std::map<NodeId, Eigen::Isometry3d> nudged_b = {{b, nudged}};
+  refineObjectMerges(candidate, g, T, meshes, {}, &nudged_b, &cache);
+  EXPECT_EQ(cache.reused, 1u);
+  ReconciliationOptions strict;
+  strict.icp_reuse_m = 0.004;
+  refineObjectMerges(candidate, g, T, meshes, strict, &nudged_b, &cache);
+  EXPECT_EQ(cache.computed, 1u);
 
   Eigen::Isometry3d apart = Eigen::Isometry3d::Identity();
   apart.linear() = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()).matrix();

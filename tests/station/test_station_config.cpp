@@ -15,6 +15,8 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_TRUE(options.backend.merge_while_solving);
   EXPECT_EQ(options.backend.deformation.solver.solver.linearization_threads, 2);
   EXPECT_EQ(options.backend.reconciliation.icp_threads, 2);
+  EXPECT_DOUBLE_EQ(options.backend.reconciliation.icp_reuse_m, 0.01);
+  EXPECT_DOUBLE_EQ(options.backend.reconciliation.icp_reuse_rad, 0.01);
   EXPECT_TRUE(options.backend.deformation.whole_graph_analysis_ahead);
   EXPECT_DOUBLE_EQ(options.backend.readmit_unsolved_share, 0.01);
   EXPECT_EQ(options.keep_freed_mb, 1024u);
@@ -31,6 +33,7 @@ TEST(StationConfig, KeysSetOptions) {
       "reconciliation": {"enabled": false, "admit_fitting_merges": false,
                          "merge_while_solving": false,
                          "place_max_distance": 0.6, "label_votes": true, "icp_threads": 3,
+                         "icp_reuse_m": 0, "icp_reuse_rad": 0.002,
                          "label_confusion": 0.2, "label_min_odds": 2},
       "rooms": {"enabled": false, "min_room_places": 4, "threshold_rule": "most",
                     "max_door_radius": 0.6},
@@ -60,6 +63,8 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_FALSE(options.backend.deformation.whole_graph_analysis_ahead);
   EXPECT_DOUBLE_EQ(options.backend.readmit_unsolved_share, 0.0);
   EXPECT_EQ(options.backend.reconciliation.icp_threads, 3);
+  EXPECT_DOUBLE_EQ(options.backend.reconciliation.icp_reuse_m, 0.0);
+  EXPECT_DOUBLE_EQ(options.backend.reconciliation.icp_reuse_rad, 0.002);
   EXPECT_FALSE(options.backend.reconcile);
   EXPECT_FALSE(options.backend.admit_fitting_merges);
   EXPECT_FALSE(options.backend.merge_while_solving);

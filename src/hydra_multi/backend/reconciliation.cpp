@@ -185,7 +185,8 @@ std::vector<MergeCandidate> refineObjectMerges(
       const IcpCache::Entry* last = it == cache->entries.end() ? nullptr : &it->second;
       if (last != nullptr && last->target_key == target_key && last->source_key == source_key) {
         const Eigen::Isometry3d delta = last->relative.inverse() * fit.entry.relative;
-        if (delta.translation().norm() < 1e-3 && Eigen::AngleAxisd(delta.linear()).angle() < 1e-3) {
+        if (delta.translation().norm() < options.icp_reuse_m &&
+            Eigen::AngleAxisd(delta.linear()).angle() < options.icp_reuse_rad) {
           reuse[i] = last;
           continue;
         }

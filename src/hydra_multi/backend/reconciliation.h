@@ -61,6 +61,10 @@ struct ReconciliationOptions {
   double icp_max_rotation_deg = 20.0;
   size_t icp_min_vertices = 8;  ///< fewer on either side: no ICP, the plain factor
   int icp_threads = 2;  ///< threads that run the candidates' ICP (each fit is its pair's alone)
+  /// An object pair whose relative placement moved less than this (metres and radians) since
+  /// ICP last checked it takes that check's verdict (IcpCache).
+  double icp_reuse_m = 0.01;
+  double icp_reuse_rad = 0.01;
   /// Label votes (see the top of this file); objects with fewer than icp_min_vertices vertices
   /// take no part.
   bool label_votes = false;
@@ -91,7 +95,8 @@ std::vector<MergeCandidate> proposeMerges(
 /// ICP's verdicts on object pairs (target, source), kept for the next check. ICP's result, the
 /// checks on it and the factor's measurement depend only on the two objects' vertices and how they
 /// are placed relative to each other; a pair whose objects kept their vertices and whose relative
-/// placement moved less than 1 mm and 1 mrad takes its last verdict without ICP.
+/// placement moved less than icp_reuse_m and icp_reuse_rad since ICP ran on it takes that
+/// verdict without ICP.
 struct IcpCache {
   struct Entry {
     double target_key = 0.0, source_key = 0.0;  ///< the objects' vertices (count and sums)

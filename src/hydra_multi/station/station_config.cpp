@@ -168,6 +168,12 @@ const std::map<std::string, std::map<std::string, Setter>>& setters() {
          flag([](StationOptions& o, bool b) { o.backend.merge_while_solving = b; })},
         {"icp_threads",
          count([](StationOptions& o, int n) { o.backend.reconciliation.icp_threads = n; }, 1)},
+        {"icp_reuse_m",
+         number([](StationOptions& o, double x) { o.backend.reconciliation.icp_reuse_m = x; }, 0.0,
+                false)},
+        {"icp_reuse_rad",
+         number([](StationOptions& o, double x) { o.backend.reconciliation.icp_reuse_rad = x; },
+                0.0, false)},
         {"place_max_distance",
          number(
              [](StationOptions& o, double x) { o.backend.reconciliation.place_max_distance = x; },
