@@ -231,6 +231,38 @@ TEST(RobustPoseGraph, AFewReadmittedAfterASolveAreLeftToALaterSolve) {
   EXPECT_NEAR(later.final_cost, cascade.final_cost, 1e-4 * cascade.final_cost);
 }
 
+// GNC's last solve, converged on weights of 0 or 1, kept as the first solve over the inliers: one
+// solve fewer, the same verdicts, and the inliers' optimum to the solver's tolerance.
+TEST(RobustPoseGraph, AConvergedGncSolveStandsAsTheSolveOverTheInliers) {
+  const LabelledGraph g = readLabelledGrid("grid1000_10p_outliers");
+  const NodeId anchor(0, 0);
+  const auto initial = odometryInitialization(g.graph, anchor);
+  RobustPgoOptions again;
+  again.reduce_chains = false;  // as the station solves
+  RobustPgoOptions keep = again;
+  keep.keep_converged_gnc_solve = true;
+  const RobustPgoResult solved = optimizePoseGraph(g.graph, initial, anchor, again);
+  const RobustPgoResult kept = optimizePoseGraph(g.graph, initial, anchor, keep);
+  ASSERT_EQ(kept.gnc.stop_reason, "weights converged");
+  EXPECT_EQ(kept.solves + 1, solved.solves);
+  EXPECT_LT(kept.solver_time.iterations, solved.solver_time.iterations);
+  EXPECT_EQ(kept.edge_inlier, solved.edge_inlier);
+  // The kept solution is the inliers' optimum: solving over them again barely lowers its cost.
+  RobustPgoOptions over = asDecided(g, kept);
+  over.readmit_consistent = false;
+  const RobustPgoResult polished = optimizePoseGraph(g.graph, kept.poses, anchor, over);
+  EXPECT_LE(polished.solver_time.iterations, 2);
+  EXPECT_NEAR(polished.final_cost, solved.final_cost, 1e-4 * solved.final_cost);
+  EXPECT_GE(classify(g, kept).precision, 0.99);
+  EXPECT_GE(classify(g, kept).recall, 0.98);
+  // GNC's solves cut at one iteration: the last one did not converge, and the inliers are solved.
+  again.gnc_inner_iterations = keep.gnc_inner_iterations = 1;
+  const RobustPgoResult cut = optimizePoseGraph(g.graph, initial, anchor, again);
+  const RobustPgoResult cut_kept = optimizePoseGraph(g.graph, initial, anchor, keep);
+  EXPECT_EQ(cut_kept.solves, cut.solves);
+  EXPECT_EQ(cut_kept.final_cost, cut.final_cost);
+}
+
 // Poses with one known-inlier edge (a place tied to its keyframe) are solved after the rest: the
 // others come out as without them, each leaf where its edge puts it, the leaf edges inliers.
 TEST(RobustPoseGraph, LeavesAreSolvedAfterTheRest) {

@@ -19,6 +19,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_DOUBLE_EQ(options.backend.reconciliation.icp_reuse_rad, 0.01);
   EXPECT_TRUE(options.backend.deformation.whole_graph_analysis_ahead);
   EXPECT_DOUBLE_EQ(options.backend.readmit_unsolved_share, 0.01);
+  EXPECT_TRUE(options.backend.deformation.solver.keep_converged_gnc_solve);
   EXPECT_EQ(options.keep_freed_mb, 1024u);
   const Status s = applyStationConfig(R"({
       "loop_closures": {"object_ambiguity_ratio": 0, "object_rival_distance": 2.5,
@@ -29,7 +30,8 @@ TEST(StationConfig, KeysSetOptions) {
                       "gnc_mu_step": 2.0, "gnc_incremental_mu_step": 1, "link_max_dt_s": 0,
                       "odometry_rotation_variance": 0.01, "reduce_chains": true,
                       "chain_min_share": 0.5, "linearization_threads": 1,
-                      "whole_graph_analysis_ahead": false, "readmit_unsolved_share": 0},
+                      "whole_graph_analysis_ahead": false, "readmit_unsolved_share": 0,
+                      "keep_converged_gnc_solve": false},
       "reconciliation": {"enabled": false, "admit_fitting_merges": false,
                          "merge_while_solving": false,
                          "place_max_distance": 0.6, "label_votes": true, "icp_threads": 3,
@@ -62,6 +64,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_EQ(options.backend.deformation.solver.solver.linearization_threads, 1);
   EXPECT_FALSE(options.backend.deformation.whole_graph_analysis_ahead);
   EXPECT_DOUBLE_EQ(options.backend.readmit_unsolved_share, 0.0);
+  EXPECT_FALSE(options.backend.deformation.solver.keep_converged_gnc_solve);
   EXPECT_EQ(options.backend.reconciliation.icp_threads, 3);
   EXPECT_DOUBLE_EQ(options.backend.reconciliation.icp_reuse_m, 0.0);
   EXPECT_DOUBLE_EQ(options.backend.reconciliation.icp_reuse_rad, 0.002);

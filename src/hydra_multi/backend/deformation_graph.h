@@ -66,11 +66,14 @@ struct DeformationGraphOptions {
                                    ///< to its nearest keyframe
   /// Chains not reduced (RobustPgoOptions::reduce_chains): docs/DECISIONS.md "Chains solved as
   /// one edge while GNC decides". Two threads linearize (LmOptions::threads): docs/DECISIONS.md
-  /// "The linearization on two threads".
+  /// "The linearization on two threads". GNC's converged last solve kept as the solve over the
+  /// inliers (RobustPgoOptions::keep_converged_gnc_solve): docs/DECISIONS.md "GNC's last solve
+  /// kept where it converged".
   RobustPgoOptions solver = [] {
     RobustPgoOptions options;
     options.reduce_chains = false;
     options.solver.linearization_threads = 2;
+    options.keep_converged_gnc_solve = true;
     return options;
   }();
   bool two_stage = true;  ///< GNC on the skeleton, then one solve of the whole graph

@@ -38,6 +38,11 @@ struct RobustPgoOptions {
   /// those few, which fit it, and a later solve over them is left to solve them in (0: every
   /// re-admission is solved in).
   double readmit_unsolved_share = 0.0;
+  /// When GNC stopped on its weights (each within GncOptions::weight_tolerance of 0 or 1) and its
+  /// last solve's Levenberg-Marquardt stopped before gnc_inner_iterations, that solution stands as
+  /// the first solve over the inliers: it is their optimum to the weight tolerance and the solver's
+  /// own, and the re-admission test starts from it. false: the inliers are solved again.
+  bool keep_converged_gnc_solve = false;
   /// Levenberg-Marquardt iterations of each GNC solve (0: solver.max_iterations). GNC re-weights
   /// after every solve, so inner solves need not converge, and short ones keep GNC near a good
   /// initial estimate while the loop-closure weights are still small (docs/DECISIONS.md "Three

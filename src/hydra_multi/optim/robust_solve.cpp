@@ -85,6 +85,7 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
     result.message = summary.message;
   };
 
+  bool last_converged = false;  // GNC's last solve stopped before its iteration limit
   std::vector<double> edge_weights(graph.edges.size(), 1.0);
   for (const size_t k : held_out) edge_weights[k] = 0.0;
   const auto solve = [&](const std::vector<double>& weights) {
@@ -94,6 +95,7 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
     if (options.robust && !chosen) chooseLinearSolver();
     const SolveSummary summary = problem.solve();
     record(summary);
+    last_converged = summary.usable && summary.iterations < problem.options().max_iterations;
     WeightedSolution solution;
     solution.cost = summary.final_cost;
     const std::vector<double> r2 = problem.squaredResiduals();
@@ -163,7 +165,12 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
         if (inlierCost(moved) < inlierCost(result.poses)) result.poses = std::move(moved);
       }
       SolveSummary summary;
-      if (conjugate_gradients) {
+      const bool kept = round == 0 && options.keep_converged_gnc_solve && !conjugate_gradients &&
+                        result.gnc.iterations > 0 && last_converged &&
+                        result.gnc.stop_reason == "weights converged";
+      if (kept) {
+        // GNC's last solution (result.poses), the inliers' optimum already.
+      } else if (conjugate_gradients) {
         // A problem over the inliers alone: the outliers' fill-in is what made GNC use CG.
         summary = solveOverInliers(graph, result.edge_inlier, result.poses, anchor, options);
       } else {
@@ -178,7 +185,7 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
         problem.setOptions(inner);
         result.poses = problem.poses();
       }
-      record(summary);
+      if (!kept) record(summary);
 
       size_t readmitted = 0;
       if (options.readmit_consistent) {
@@ -194,7 +201,11 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
           ++readmitted;
         }
       }
-      if (options.progress) {
+      if (options.progress && kept) {
+        options.progress("GNC's last solve kept as the solve over the " +
+                         std::to_string(inlier_edges) + " inlier edges; " +
+                         std::to_string(readmitted) + " rejected loop closures fit it again");
+      } else if (options.progress) {
         options.progress("solve over the " + std::to_string(inlier_edges) +
                          " inlier edges: " + std::to_string(summary.iterations) +
                          " iterations in " + seconds(summary.time_s) + ", cost " +

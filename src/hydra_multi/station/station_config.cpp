@@ -144,6 +144,9 @@ const std::map<std::string, std::map<std::string, Setter>>& setters() {
                0)},
         {"reduce_chains",
          flag([](StationOptions& o, bool b) { o.backend.deformation.solver.reduce_chains = b; })},
+        {"keep_converged_gnc_solve", flag([](StationOptions& o, bool b) {
+           o.backend.deformation.solver.keep_converged_gnc_solve = b;
+         })},
         {"linearization_threads",
          count([](StationOptions& o,
                   int n) { o.backend.deformation.solver.solver.linearization_threads = n; },
