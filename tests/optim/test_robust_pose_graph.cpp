@@ -229,6 +229,21 @@ TEST(RobustPoseGraph, AFewReadmittedAfterASolveAreLeftToALaterSolve) {
       optimizePoseGraph(r.g.graph, quick.poses, r.anchor, asDecided(r.g, quick));
   EXPECT_EQ(later.edge_inlier, cascade.edge_inlier);
   EXPECT_NEAR(later.final_cost, cascade.final_cost, 1e-4 * cascade.final_cost);
+  // The result names what it took back unsolved: the cascade's second step.
+  EXPECT_FALSE(quick.readmitted_unsolved.empty());
+  for (const size_t k : quick.readmitted_unsolved) EXPECT_TRUE(quick.edge_inlier[k]) << k;
+  EXPECT_TRUE(cascade.readmitted_unsolved.empty());
+  // From the first re-admission on (readmit_unsolved_first): the cascade's first step, unsolved.
+  RobustPgoOptions from_first = cut;
+  from_first.readmit_unsolved_first = true;
+  from_first.readmit_unsolved_share = 0.5;
+  const RobustPgoResult first = optimizePoseGraph(r.g.graph, r.start, r.anchor, from_first);
+  EXPECT_LT(first.solves, quick.solves);
+  EXPECT_GT(first.readmitted_unsolved.size(), quick.readmitted_unsolved.size());
+  for (const size_t k : first.readmitted_unsolved) {
+    EXPECT_TRUE(first.edge_inlier[k]) << k;
+    EXPECT_TRUE(cascade.edge_inlier[k]) << k;
+  }
 }
 
 // GNC's last solve, converged on weights of 0 or 1, kept as the first solve over the inliers: one

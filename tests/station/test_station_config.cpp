@@ -20,6 +20,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_TRUE(options.backend.deformation.whole_graph_analysis_ahead);
   EXPECT_DOUBLE_EQ(options.backend.readmit_unsolved_share, 0.01);
   EXPECT_TRUE(options.backend.deformation.solver.keep_converged_gnc_solve);
+  EXPECT_TRUE(options.backend.readmit_unsolved_with_merges);
   EXPECT_EQ(options.keep_freed_mb, 1024u);
   const Status s = applyStationConfig(R"({
       "loop_closures": {"object_ambiguity_ratio": 0, "object_rival_distance": 2.5,
@@ -31,7 +32,7 @@ TEST(StationConfig, KeysSetOptions) {
                       "odometry_rotation_variance": 0.01, "reduce_chains": true,
                       "chain_min_share": 0.5, "linearization_threads": 1,
                       "whole_graph_analysis_ahead": false, "readmit_unsolved_share": 0,
-                      "keep_converged_gnc_solve": false},
+                      "keep_converged_gnc_solve": false, "readmit_unsolved_with_merges": false},
       "reconciliation": {"enabled": false, "admit_fitting_merges": false,
                          "merge_while_solving": false,
                          "place_max_distance": 0.6, "label_votes": true, "icp_threads": 3,
@@ -65,6 +66,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_FALSE(options.backend.deformation.whole_graph_analysis_ahead);
   EXPECT_DOUBLE_EQ(options.backend.readmit_unsolved_share, 0.0);
   EXPECT_FALSE(options.backend.deformation.solver.keep_converged_gnc_solve);
+  EXPECT_FALSE(options.backend.readmit_unsolved_with_merges);
   EXPECT_EQ(options.backend.reconciliation.icp_threads, 3);
   EXPECT_DOUBLE_EQ(options.backend.reconciliation.icp_reuse_m, 0.0);
   EXPECT_DOUBLE_EQ(options.backend.reconciliation.icp_reuse_rad, 0.002);

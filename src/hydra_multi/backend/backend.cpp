@@ -334,8 +334,14 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
           return std::make_pair(std::move(map), std::move(plan));
         });
   };
+  DeformationGraphOptions with_merges = options_.deformation;
+  if (incremental() && options_.readmit_unsolved_with_merges && with_merges.two_stage &&
+      with_merges.final_iterations > 0) {
+    with_merges.solver.readmit_unsolved_share = options_.readmit_unsolved_share;
+    with_merges.solver.readmit_unsolved_first = true;
+  }
   const DeformationResult result = optimizeDeformationGraph(
-      graph, options_.deformation, held_out, warm.poses.empty() ? nullptr : &warm,
+      graph, with_merges, held_out, warm.poses.empty() ? nullptr : &warm,
       options_.merge_while_solving ? std::function<void(const RobustVerdicts&)>(planWhenDecided)
                                    : nullptr);
   report.verdicts_redecided += result.solve.known_contradicted;

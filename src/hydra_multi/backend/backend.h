@@ -92,6 +92,9 @@ struct BackendOptions {
   /// one (RobustPgoOptions::readmit_unsolved_share); the solve with merges solves them in. 0: every
   /// re-admission solved in, as in a round from scratch.
   double readmit_unsolved_share = 0.01;
+  /// In incremental rounds the solve with merges does the same from its first re-admission on
+  /// (RobustPgoOptions::readmit_unsolved_first); the whole-graph solve, then whole, solves them in.
+  bool readmit_unsolved_with_merges = true;
 };
 
 struct BackendRoundReport {

@@ -17,12 +17,13 @@ namespace {
 
 // The nodes a warm-started whole-graph solve moves (DeformationGraphOptions::local_whole_graph):
 // those of the factors whose two poses are placed relative to each other otherwise than in the
-// earlier solution (or that it lacks), and those within local_hops edges of them; none without
-// an earlier solution.
+// earlier solution (or that it lacks), the ends of `unsolved` (factors no solve has solved in),
+// and those within local_hops edges of them; none without an earlier solution.
 std::optional<std::set<NodeId>> changedNodes(const PoseGraph& whole,
                                              const std::vector<bool>& left_out,
                                              const std::map<NodeId, Eigen::Isometry3d>& start,
                                              const DeformationWarmStart& warm,
+                                             const std::vector<PoseGraphEdge>& unsolved,
                                              const DeformationGraphOptions& options) {
   if (warm.last_whole.empty()) return std::nullopt;
   // Per node of `start`: its pose there and in the earlier solution (none: null), its neighbours.
@@ -55,6 +56,9 @@ std::optional<std::set<NodeId>> changedNodes(const PoseGraph& whole,
       changed.insert(e.from);
       changed.insert(e.to);
     }
+  }
+  for (const PoseGraphEdge& e : unsolved) {
+    if (nodes.count(e.from) && nodes.count(e.to)) changed.insert({e.from, e.to});
   }
   std::vector<NodeId> frontier(changed.begin(), changed.end());
   for (int hop = 0; hop < options.local_hops && !frontier.empty(); ++hop) {
@@ -264,9 +268,12 @@ DeformationResult optimizeDeformationGraph(
     }
   }
   RobustPgoOptions plain = wholeGraphSolver(options);
+  // Factors the skeleton took back without solving them in: the whole graph's solve does.
+  std::vector<PoseGraphEdge> unsolved;
+  for (const size_t k : result.solve.readmitted_unsolved) unsolved.push_back(robust.edges[k]);
   const std::optional<std::set<NodeId>> changed =
       options.local_whole_graph && warm != nullptr
-          ? changedNodes(whole, left_out, initial, *warm, options)
+          ? changedNodes(whole, left_out, initial, *warm, unsolved, options)
           : std::nullopt;
   if (!changed || changed->size() > options.local_max_share * initial.size()) {
     const bool prepared = ahead != nullptr && ahead->holds();

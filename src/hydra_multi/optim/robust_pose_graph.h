@@ -38,6 +38,9 @@ struct RobustPgoOptions {
   /// those few, which fit it, and a later solve over them is left to solve them in (0: every
   /// re-admission is solved in).
   double readmit_unsolved_share = 0.0;
+  /// The share applies to the first re-admission too: for a solve whose result a later solve
+  /// over the same factors starts from (RobustPgoResult::readmitted_unsolved names them).
+  bool readmit_unsolved_first = false;
   /// When GNC stopped on its weights (each within GncOptions::weight_tolerance of 0 or 1) and its
   /// last solve's Levenberg-Marquardt stopped before gnc_inner_iterations, that solution stands as
   /// the first solve over the inliers: it is their optimum to the weight tolerance and the solver's
@@ -97,7 +100,10 @@ struct RobustPgoResult {
   int solves = 0;
   SolverTime solver_time;         ///< over all solves (their time and iterations)
   size_t known_contradicted = 0;  ///< known inliers GNC had to decide again (known_inlier)
-  double final_cost = 0.0;        ///< Ceres cost of the last solve (weighted)
+  /// Factors taken back as fitting the result without a solve after (readmit_unsolved_share):
+  /// their graph edges.
+  std::vector<size_t> readmitted_unsolved;
+  double final_cost = 0.0;  ///< Ceres cost of the last solve (weighted)
   double time_s = 0.0;
   bool usable = true;
   std::string message;  ///< the last solve's report

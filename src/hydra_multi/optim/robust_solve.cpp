@@ -134,7 +134,8 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
 
   // Polish: the exact optimum over the inliers with the configured (sparse) solver; then take
   // back rejected loop closures that fit it, and repeat until none does (or, after the second
-  // solve, until fewer than readmit_unsolved_share of the inliers do). With sparse Cholesky
+  // solve or with readmit_unsolved_first the first, until fewer than readmit_unsolved_share of the
+  // inliers do). With sparse Cholesky
   // throughout, the solves reuse GNC's problem (the same optimum: a factor at weight 0 is none).
   const double c2 = options.gnc.thresholdSq();
   const auto inlierCost = [&](const std::map<NodeId, Eigen::Isometry3d>& poses) {
@@ -188,6 +189,7 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
       if (!kept) record(summary);
 
       size_t readmitted = 0;
+      std::vector<size_t> fitting;
       if (options.readmit_consistent) {
         std::vector<size_t> rejected;
         for (const auto* decided : {&robust_edges, &held_out}) {
@@ -195,7 +197,8 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
             if (!result.edge_inlier[k]) rejected.push_back(k);
           }
         }
-        for (const size_t k : edgesThatFit(graph, rejected, result.poses, anchor, options)) {
+        fitting = edgesThatFit(graph, rejected, result.poses, anchor, options);
+        for (const size_t k : fitting) {
           result.edge_inlier[k] = true;
           result.edge_weight[k] = 1.0;
           ++readmitted;
@@ -215,9 +218,13 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
       }
       if (readmitted == 0) break;
       if (round == 0) result.held_out_poses = result.poses;  // re-admission leaves them
-      if (round > 0 && static_cast<double>(readmitted) <
-                           options.readmit_unsolved_share * static_cast<double>(inlier_edges))
+      if ((round > 0 || options.readmit_unsolved_first) &&
+          static_cast<double>(readmitted) <
+              options.readmit_unsolved_share * static_cast<double>(inlier_edges)) {
+        result.readmitted_unsolved.insert(result.readmitted_unsolved.end(), fitting.begin(),
+                                          fitting.end());
         break;
+      }
     }
   };
 

@@ -119,6 +119,8 @@ const std::map<std::string, std::map<std::string, Setter>>& setters() {
         {"two_stage", flag([](StationOptions& o, bool b) { o.backend.deformation.two_stage = b; })},
         {"final_iterations",
          count([](StationOptions& o, int n) { o.backend.deformation.final_iterations = n; }, 0)},
+        {"readmit_unsolved_with_merges",
+         flag([](StationOptions& o, bool b) { o.backend.readmit_unsolved_with_merges = b; })},
         {"readmit_unsolved_share",
          number([](StationOptions& o, double x) { o.backend.readmit_unsolved_share = x; }, 0.0,
                 false, 1.0)},
