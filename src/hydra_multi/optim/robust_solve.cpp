@@ -132,11 +132,12 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
     for (const size_t k : held_out) result.edge_inlier[k] = false;
   };
 
-  // Polish: the exact optimum over the inliers with the configured (sparse) solver; then take
-  // back rejected loop closures that fit it, and repeat until none does (or, after the second
-  // solve or with readmit_unsolved_first the first, until fewer than readmit_unsolved_share of the
-  // inliers do). With sparse Cholesky
-  // throughout, the solves reuse GNC's problem (the same optimum: a factor at weight 0 is none).
+  // Polish: the exact optimum over the inliers with the configured (sparse) solver (GNC's last
+  // solve where it is that already: keep_converged_gnc_solve); then take back rejected loop
+  // closures that fit it, and repeat until none does (or, after the second solve, or the first
+  // with readmit_unsolved_first, until fewer than readmit_unsolved_share of the inliers do). With
+  // sparse Cholesky throughout, the solves reuse GNC's problem (the same optimum: a factor at
+  // weight 0 is none).
   const double c2 = options.gnc.thresholdSq();
   const auto inlierCost = [&](const std::map<NodeId, Eigen::Isometry3d>& poses) {
     const std::vector<double> r2 = problem.setPoses(poses).squaredResiduals();
