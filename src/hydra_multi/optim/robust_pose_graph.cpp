@@ -79,6 +79,7 @@ RobustPgoResult optimizeWithoutLeaves(const PoseGraph& graph,
   // The interiors sit at the first-order optimum; the solve over the inliers makes it exact.
   const SolveSummary summary =
       solveOverInliers(graph, result.edge_inlier, result.poses, anchor, options);
+  result.readmitted_unsolved.clear();  // solved in by it (and numbered in the reduced graph)
   ++result.solves;
   result.solver_time += summary;
   result.final_cost = summary.final_cost;
