@@ -189,8 +189,7 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
       }
       if (!kept) record(summary);
 
-      size_t readmitted = 0;
-      std::vector<size_t> fitting;
+      std::vector<size_t> fitting;  // rejected factors that fit the result: re-admitted
       if (options.readmit_consistent) {
         std::vector<size_t> rejected;
         for (const auto* decided : {&robust_edges, &held_out}) {
@@ -202,9 +201,9 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
         for (const size_t k : fitting) {
           result.edge_inlier[k] = true;
           result.edge_weight[k] = 1.0;
-          ++readmitted;
         }
       }
+      const size_t readmitted = fitting.size();
       if (options.progress && kept) {
         options.progress("GNC's last solve kept as the solve over the " +
                          std::to_string(inlier_edges) + " inlier edges; " +
