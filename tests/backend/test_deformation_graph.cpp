@@ -587,7 +587,7 @@ TEST(DeformationGraph, TheBackendGraphIsMadeUnplacedThenPlacedAtTheSolvedPoses) 
       buildDeformationGraph(frontend, inputs, trueClosures(a, b), {}, {});
   const DeformationResult result = optimizeDeformationGraph(graph);
 
-  SceneGraph map = unplacedMap(frontend, inputs, graph);
+  SceneGraph map = unplacedMap(frontend, inputs);
   EXPECT_EQ(map.numNodes(), 121u);
   EXPECT_EQ(map.numEdges(), 59u);
   EXPECT_EQ(map.getNode(keyframe(b, 5)).position, frontend.getNode(keyframe(b, 5)).position);

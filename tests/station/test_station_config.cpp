@@ -13,6 +13,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_FALSE(options.backend.deformation.solver.reduce_chains);  // the station's defaults
   EXPECT_TRUE(options.backend.admit_fitting_merges);
   EXPECT_TRUE(options.backend.merge_while_solving);
+  EXPECT_TRUE(options.backend.plan_merges_ahead);
   EXPECT_EQ(options.backend.deformation.solver.solver.linearization_threads, 2);
   EXPECT_EQ(options.backend.reconciliation.icp_threads, 2);
   EXPECT_DOUBLE_EQ(options.backend.reconciliation.icp_reuse_m, 0.01);
@@ -34,7 +35,7 @@ TEST(StationConfig, KeysSetOptions) {
                       "whole_graph_analysis_ahead": false, "readmit_unsolved_share": 0,
                       "keep_converged_gnc_solve": false, "readmit_unsolved_with_merges": false},
       "reconciliation": {"enabled": false, "admit_fitting_merges": false,
-                         "merge_while_solving": false,
+                         "merge_while_solving": false, "plan_merges_ahead": false,
                          "place_max_distance": 0.6, "label_votes": true, "icp_threads": 3,
                          "icp_reuse_m": 0, "icp_reuse_rad": 0.002,
                          "label_confusion": 0.2, "label_min_odds": 2},
@@ -73,6 +74,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_FALSE(options.backend.reconcile);
   EXPECT_FALSE(options.backend.admit_fitting_merges);
   EXPECT_FALSE(options.backend.merge_while_solving);
+  EXPECT_FALSE(options.backend.plan_merges_ahead);
   EXPECT_DOUBLE_EQ(options.backend.reconciliation.place_max_distance, 0.6);
   EXPECT_TRUE(options.backend.reconciliation.label_votes);
   EXPECT_DOUBLE_EQ(options.backend.reconciliation.label_confusion, 0.2);

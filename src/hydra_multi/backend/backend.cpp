@@ -222,12 +222,38 @@ DeformationWarmStart Backend::startWithMerges(const DeformationGraph& graph, con
 }
 
 Backend::MapInProgress Backend::startBackendGraph(const SceneGraph& frontend, const Team& team,
-                                                  const DeformationGraph& graph) const {
+                                                  bool spare) const {
   MapInProgress made;
-  made.unplaced = std::async(std::launch::async, [&frontend, &team, &graph] {
-    return unplacedMap(frontend, team.inputs, graph);
-  });
+  std::promise<SceneGraph> copy;
+  if (spare) made.spare = copy.get_future();
+  made.unplaced =
+      std::async(std::launch::async, [&frontend, &team, spare, copy = std::move(copy)]() mutable {
+        SceneGraph map = unplacedMap(frontend, team.inputs);
+        if (spare) copy.set_value(map);
+        return map;
+      });
   return made;
+}
+
+void Backend::planMergesFor(const SceneGraph& frontend, const Team& team,
+                            const std::vector<MergeCandidate>& candidates,
+                            const RobustVerdicts& verdicts, MapInProgress& made) const {
+  std::vector<bool> kept = keptCandidates(candidates, verdicts);
+  if (made.planned.valid()) {
+    if (kept == made.planned_kept) return;
+    made.planned.wait();  // planned for other verdicts: planned again from the copy, or else
+    made.planned = {};    // made anew after placing
+    if (!made.spare.valid()) return;
+    made.unplaced = std::move(made.spare);
+  }
+  made.planned_kept = kept;
+  ++made.plans;
+  made.planned = std::async(std::launch::async, [&, kept = std::move(kept)] {
+    SceneGraph map = made.unplaced.get();
+    MergePlan plan = planMerges(map, frontend, candidates, kept, team.meshes,
+                                options_.deformation.link_max_dt_s, options_.reconciliation);
+    return std::make_pair(std::move(map), std::move(plan));
+  });
 }
 
 SceneGraph Backend::placeBackendGraph(const SceneGraph& frontend, const Team& team,
@@ -248,10 +274,10 @@ SceneGraph Backend::placeBackendGraph(const SceneGraph& frontend, const Team& te
       map = std::move(merged_map);
       plan = std::move(planned);
     } else {
-      map = unplacedMap(frontend, team.inputs, graph);
+      map = unplacedMap(frontend, team.inputs);
     }
   } else {
-    map = made.unplaced.get();
+    map = made.unplaced.valid() ? made.unplaced.get() : unplacedMap(frontend, team.inputs);
   }
   std::map<NodeId, Placement> placements;
   if (plan) placements = mergedNodes(*plan);
@@ -260,6 +286,7 @@ SceneGraph Backend::placeBackendGraph(const SceneGraph& frontend, const Team& te
            plan ? &placements : nullptr);
   for (const auto& [robot, binding] : bindings) report.vertices_blended += binding.reblended;
   report.merges_proposed = candidates.size();
+  report.merge_plans = made.plans;
   const double window_s = options_.deformation.link_max_dt_s;
   MergeOutcome merged = plan ? placeMerged(map, std::move(*plan), std::move(placements), frontend,
                                            team.meshes, options_.reconciliation, window_s)
@@ -295,7 +322,8 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   report.robots_aligned = aligned_.size();
   report.alignment_s = lap();
 
-  // 2. Reconciliation proposals on the loop closures' solve, as merge factors.
+  // 2. Reconciliation proposals on the loop closures' solve, as merge factors; the backend graph
+  //    begun meanwhile.
   const Team team = alignedTeam(robots);
   if (incremental())
     report.robots_afresh =
@@ -305,6 +333,8 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   const std::vector<PoseGraphEdge>& loop_closures = joint ? inter_robot : none;
   std::set<std::pair<NodeId, NodeId>> held_out = alignmentOutliers();
   Proposals proposals;
+  MapInProgress made =  // after `proposals`: its plan reads their candidates
+      startBackendGraph(frontend, team, options_.merge_while_solving && options_.plan_merges_ahead);
   if (options_.reconcile && joint)
     proposals = proposeOnLoopClosureSolve(frontend, team, loop_closures, held_out, report);
   const std::vector<PoseGraphEdge> merges =
@@ -316,34 +346,28 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   report.build_s = lap();
 
   // 3. The deformation graph with the merge factors, held out until they fit (in an incremental
-  //    round, a new one that fits the start is known instead); the backend graph made meanwhile.
+  //    round, a new one that fits the start is known instead); the merges planned meanwhile.
   if (options_.hold_out_merges) {
     for (const PoseGraphEdge& e : merges) held_out.insert({e.from, e.to});
   }
   const std::map<NodeId, Eigen::Isometry3d> proposal_poses = proposals.solved.poses;
   DeformationWarmStart warm =
       startWithMerges(graph, team, std::move(proposals.solved), merges, held_out, report);
-  MapInProgress made = startBackendGraph(frontend, team, graph);
-  const double window_s = options_.deformation.link_max_dt_s;
-  const auto planWhenDecided = [&](const RobustVerdicts& verdicts) {
-    made.planned =
-        std::async(std::launch::async, [&, kept = keptCandidates(proposals.candidates, verdicts)] {
-          SceneGraph map = made.unplaced.get();
-          MergePlan plan = planMerges(map, frontend, proposals.candidates, kept, team.meshes,
-                                      window_s, options_.reconciliation);
-          return std::make_pair(std::move(map), std::move(plan));
-        });
+  using Verdicts = std::function<void(const RobustVerdicts&)>;
+  const Verdicts plan = [&](const RobustVerdicts& verdicts) {
+    planMergesFor(frontend, team, proposals.candidates, verdicts, made);
   };
+  const bool planned = options_.merge_while_solving;
+  const bool ahead = planned && options_.plan_merges_ahead;
   DeformationGraphOptions with_merges = options_.deformation;
   if (incremental() && options_.readmit_unsolved_with_merges && with_merges.two_stage &&
       with_merges.final_iterations > 0) {
     with_merges.solver.readmit_unsolved_share = options_.readmit_unsolved_share;
     with_merges.solver.readmit_unsolved_first = true;
   }
-  const DeformationResult result = optimizeDeformationGraph(
-      graph, with_merges, held_out, warm.poses.empty() ? nullptr : &warm,
-      options_.merge_while_solving ? std::function<void(const RobustVerdicts&)>(planWhenDecided)
-                                   : nullptr);
+  const DeformationResult result =
+      optimizeDeformationGraph(graph, with_merges, held_out, warm.poses.empty() ? nullptr : &warm,
+                               planned ? plan : Verdicts(), ahead ? plan : Verdicts());
   report.verdicts_redecided += result.solve.known_contradicted;
   report.merges_admitted = result.admitted;
   report.solves += result.solve.solves + (result.whole_graph_free > 0 ? 1 : 0);

@@ -10,8 +10,8 @@
 //   3. the graph with the merge factors, held out in the same way, solved again (GNC on the
 //      skeleton, then the whole graph once) from startWithMerges, the loop closures taken as
 //      step 2 decided them (known inliers, or held out to be taken back where they fit);
-//   4. the backend graph (optimized_map.h: unplacedMap, made on a second thread while step 3
-//      solves, startBackendGraph; then placeBackendGraph), and the merges GNC kept or none
+//   4. the backend graph (optimized_map.h: unplacedMap, made on a second thread while steps 2
+//      and 3 solve, startBackendGraph; then placeBackendGraph), and the merges GNC kept or none
 //      (node_merging.h), made in it on that thread while the whole graph is solved, their
 //      positions fused once it is placed;
 //   5. rooms segmented over the optimized places (room_segmentation.h).
@@ -87,6 +87,10 @@ struct BackendOptions {
   /// solved (planMerges), their nodes' positions and boxes fused once the graph is placed
   /// (placeMerged); false: made after placing (mergeKept). The same graph either way.
   bool merge_while_solving = true;
+  /// With merge_while_solving: the merges planned already while GNC solves with them, for the
+  /// verdicts it reaches where it keeps every factor it starts with; planned again from a copy of
+  /// the unplaced graph where GNC decides otherwise. The same graph either way.
+  bool plan_merges_ahead = true;
   /// Incremental rounds: the loop closures' solve takes back, without solving again, a
   /// re-admission smaller than this share of its inlier edges once a solve has followed an earlier
   /// one (RobustPgoOptions::readmit_unsolved_share); the solve with merges solves them in. 0: every
@@ -131,6 +135,9 @@ struct BackendRoundReport {
   size_t whole_graph_free = 0;
   /// The whole-graph solve took its analysis made ahead (whole_graph_analysis_ahead).
   bool whole_graph_ahead = false;
+  /// The merges' plans made while solving (merge_while_solving; with plan_merges_ahead, 2 where
+  /// GNC decided otherwise than expected).
+  int merge_plans = 0;
   /// Mesh vertices the round deformed anew (MeshBinding; the others kept from the last round).
   size_t vertices_blended = 0;
   bool from_scratch = false;  ///< the round took nothing from the last one
@@ -225,15 +232,21 @@ class Backend {
                                        const std::vector<PoseGraphEdge>& merges,
                                        std::set<std::pair<NodeId, NodeId>>& held_out,
                                        BackendRoundReport& report) const;
-  /// The backend graph made on second threads while the deformation graph is solved: its nodes,
-  /// edges and mesh, which need no pose (unplacedMap), and then the merges GNC kept in it
-  /// (planMerges, started by the solve's `decided` callback).
+  /// The backend graph made on second threads while the deformation graphs are solved: its nodes,
+  /// edges and mesh, which need no pose (unplacedMap; with `spare`, a copy of it too), and then
+  /// the merges GNC kept in it (planMerges, by planMergesFor).
   struct MapInProgress {
-    std::future<SceneGraph> unplaced;
+    std::future<SceneGraph> unplaced, spare;
     std::future<std::pair<SceneGraph, MergePlan>> planned;
+    std::vector<bool> planned_kept;  ///< per candidate, made in `planned`
+    int plans = 0;                   ///< started
   };
-  MapInProgress startBackendGraph(const SceneGraph& frontend, const Team& team,
-                                  const DeformationGraph& graph) const;
+  MapInProgress startBackendGraph(const SceneGraph& frontend, const Team& team, bool spare) const;
+  /// Starts planning the merges of `candidates` that `verdicts` keep in `made`'s graph, unless
+  /// `made` plans just those already (from the spare copy where it plans others).
+  void planMergesFor(const SceneGraph& frontend, const Team& team,
+                     const std::vector<MergeCandidate>& candidates, const RobustVerdicts& verdicts,
+                     MapInProgress& made) const;
   /// Step 4: that graph placed by the solve (placeMap) with the merges GNC kept (placeMerged, or
   /// mergeKept where the plan cannot be used), the mesh deformed where control points moved.
   SceneGraph placeBackendGraph(const SceneGraph& frontend, const Team& team,

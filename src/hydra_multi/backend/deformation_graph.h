@@ -174,13 +174,16 @@ struct DeformationWarmStart {
 /// `held_out`: robust factors (from, to) GNC starts without, taken back only if they fit its
 /// result (RobustPgoOptions::held_out), whatever `warm` says of them (but admit_if_fitting).
 /// `decided` (when given) is called with the result's robust_inlier as soon as GNC has decided
-/// them, before the whole graph is solved; the result's are the same.
+/// them, before the whole graph is solved; the result's are the same. `expected` (when given) is
+/// called before GNC starts with the verdicts it reaches where it keeps every robust factor it
+/// does not start without (those of `held_out`, those `warm` rejected).
 using RobustVerdicts = std::map<std::pair<NodeId, NodeId>, bool>;
 DeformationResult optimizeDeformationGraph(
     const DeformationGraph& graph, const DeformationGraphOptions& options = {},
     const std::set<std::pair<NodeId, NodeId>>& held_out = {},
     const DeformationWarmStart* warm = nullptr,
-    const std::function<void(const RobustVerdicts&)>& decided = {});
+    const std::function<void(const RobustVerdicts&)>& decided = {},
+    const std::function<void(const RobustVerdicts&)>& expected = {});
 
 /// Nanoseconds of a window in seconds (<= 0: none).
 inline int64_t windowNs(double seconds) {

@@ -142,7 +142,8 @@ void analyzeWholeGraphAhead(const DeformationGraph& graph, const PoseGraph& robu
 DeformationResult optimizeDeformationGraph(
     const DeformationGraph& graph, const DeformationGraphOptions& options,
     const std::set<std::pair<NodeId, NodeId>>& held_out, const DeformationWarmStart* warm,
-    const std::function<void(const RobustVerdicts&)>& decided) {
+    const std::function<void(const RobustVerdicts&)>& decided,
+    const std::function<void(const RobustVerdicts&)>& expected) {
   DeformationResult result;
   if (graph.initial.empty()) return result;
   const PoseGraph& robust = options.two_stage ? graph.skeleton : graph.graph;
@@ -207,6 +208,14 @@ DeformationResult optimizeDeformationGraph(
   if (warm != nullptr && !warm->admit_if_fitting.empty())
     result.admitted =
         admitFitting(robust, initial_poses, graph.anchor, warm->admit_if_fitting, solver);
+  if (expected) {
+    RobustVerdicts kept;
+    for (size_t k = 0; k < robust.edges.size(); ++k) {
+      const PoseGraphEdge& e = robust.edges[k];
+      if (e.kind == PoseGraphEdge::Kind::kLoopClosure) kept[{e.from, e.to}] = !solver.held_out[k];
+    }
+    expected(kept);
+  }
   // The whole-graph solve's analysis on a second thread while GNC runs (a failure there leaves
   // the solve to analyze its own).
   std::shared_ptr<SparseAnalyses> ahead;

@@ -7,8 +7,8 @@
 
 namespace hydra_multi {
 
-SceneGraph unplacedMap(const SceneGraph& frontend, const std::vector<RobotDeformationInput>& robots,
-                       const DeformationGraph& deformation) {
+SceneGraph unplacedMap(const SceneGraph& frontend,
+                       const std::vector<RobotDeformationInput>& robots) {
   SceneGraph graph;
   size_t vertices = 0, faces = 0;
   for (const RobotDeformationInput& robot : robots) {
@@ -28,10 +28,11 @@ SceneGraph unplacedMap(const SceneGraph& frontend, const std::vector<RobotDeform
         graph.mesh().faces.push_back(f);
       }
     }
+    const bool posed = !frontend.nodesOfRobot(robot.robot, Layer::kAgents).empty();
     for (const NodeId id : frontend.nodesOfRobot(robot.robot)) {
       const Node& node = frontend.getNode(id);
       if (node.layer() == Layer::kAgents || node.layer() == Layer::kPlaces) {
-        if (deformation.initial.count(id) != 0) graph.addOrUpdateNode(node);
+        if (posed) graph.addOrUpdateNode(node);
       } else if (node.find<ObjectAttributes>() != nullptr) {
         Node object = node;
         for (uint64_t& v : object.find<ObjectAttributes>()->mesh_vertices) v += vertex_offset;

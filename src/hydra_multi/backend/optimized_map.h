@@ -6,7 +6,7 @@
 // boxes with them; its edges as the frontend has them. The robots' meshes are appended in order,
 // object vertex indices offset accordingly. Rooms and buildings are left to room segmentation.
 // Made in two steps: its nodes, edges and mesh as the frontend has them (unplacedMap, which needs
-// no pose, so the backend makes it while the deformation graph is solved), then placed
+// no pose, so the backend makes it while the deformation graphs are solved), then placed
 // (placeMap).
 
 #include <map>
@@ -17,14 +17,14 @@
 
 namespace hydra_multi {
 
-/// `robots`: the aligned robots as the deformation graph `deformation` took them. Their
-/// keyframes and places that `deformation` holds, their objects (mesh vertex indices offset), the
-/// frontend's edges between these, and their meshes appended in order, all as the frontend has
-/// them.
-SceneGraph unplacedMap(const SceneGraph& frontend, const std::vector<RobotDeformationInput>& robots,
-                       const DeformationGraph& deformation);
+/// `robots`: the aligned robots as the deformation graph takes them. Their keyframes, the places
+/// of those with a keyframe (the nodes buildDeformationGraph poses, with or without merges), their
+/// objects (mesh vertex indices offset), the frontend's edges between these, and their meshes
+/// appended in order, all as the frontend has them.
+SceneGraph unplacedMap(const SceneGraph& frontend,
+                       const std::vector<RobotDeformationInput>& robots);
 
-/// Places `map` (unplacedMap of the same frontend, robots and deformation graph) at the
+/// Places `map` (unplacedMap of the same frontend and robots) at the
 /// deformation graph's optimized `poses`; a keyframe or place without one leaves. `first_keyframes`
 /// (when given) receives each robot's first keyframe's optimized pose. `bindings` (when given)
 /// holds each robot's mesh as bound and blended by the last call, read and updated (MeshBinding:

@@ -171,6 +171,8 @@ const std::map<std::string, std::map<std::string, Setter>>& setters() {
          flag([](StationOptions& o, bool b) { o.backend.admit_fitting_merges = b; })},
         {"merge_while_solving",
          flag([](StationOptions& o, bool b) { o.backend.merge_while_solving = b; })},
+        {"plan_merges_ahead",
+         flag([](StationOptions& o, bool b) { o.backend.plan_merges_ahead = b; })},
         {"icp_threads",
          count([](StationOptions& o, int n) { o.backend.reconciliation.icp_threads = n; }, 1)},
         {"icp_reuse_m",
