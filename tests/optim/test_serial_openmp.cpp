@@ -18,6 +18,16 @@ int teamOfFour() {
   return team;
 }
 
+int regionLevel() {  // nested regions in the one a parallel directive opens: 1 in a team
+  int level = -1;
+#pragma omp parallel num_threads(4)
+  {
+#pragma omp single
+    level = omp_get_level();
+  }
+  return level;
+}
+
 TEST(SerialOpenMp, RegionsRunOnTheCallingThreadWhileItLives) {
   omp_set_max_active_levels(2);
   ASSERT_EQ(teamOfFour(), 4);
@@ -40,6 +50,15 @@ TEST(SerialOpenMp, OnlyTheThreadThatHoldsIt) {
   std::thread([&other] { other = teamOfFour(); }).join();
   EXPECT_EQ(other, 4);
   EXPECT_EQ(teamOfFour(), 1);
+}
+
+TEST(SerialOpenMp, RegionsOpenNoTeamWhileItLives) {
+  EXPECT_EQ(regionLevel(), 1);  // libgomp's team
+  {
+    const SerialOpenMp serial;
+    EXPECT_EQ(regionLevel(), 0);  // the region's function called directly, as CHOLMOD's loops are
+  }
+  EXPECT_EQ(regionLevel(), 1);
 }
 
 }  // namespace

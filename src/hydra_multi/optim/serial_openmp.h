@@ -1,22 +1,20 @@
 #pragma once
-// While a SerialOpenMp lives, the OpenMP regions its thread starts run on that thread alone: the
-// max-active-levels ICV at 0 (per thread in libgomp), the thread's earlier value restored after.
-// For libraries that open a fixed team per call, as CHOLMOD's supernodal factorization does (four
-// threads to clear and assemble each supernode). It sets libgomp's ICV (linked as such, not
-// through the compiler's OpenMP), the runtime Debian's CHOLMOD uses. docs/DECISIONS.md: "CHOLMOD's
-// loops on the solving thread".
-
-extern "C" {
-void omp_set_max_active_levels(int max_levels);  // OpenMP's API, as libgomp exports it
-int omp_get_max_active_levels(void);
-}
+// While a SerialOpenMp lives, the OpenMP regions its thread starts run on that thread alone, with
+// no team: this library defines libgomp's entry for a parallel region (GOMP_parallel, the only one
+// Debian's CHOLMOD calls), which the executable exports ahead of libgomp's. In a SerialOpenMp's
+// scope a region's function is called directly (omp_get_num_threads() 1, omp_get_level() 0);
+// elsewhere libgomp's own entry runs it. CHOLMOD's supernodal factorization opens a region of a
+// fixed team of four per supernode, millions per run, and libgomp makes even a team of one per
+// region. The max-active-levels ICV is set to 0 as well (per thread in libgomp), the thread's
+// earlier value restored after. docs/DECISIONS.md: "CHOLMOD's loops on the solving thread" and
+// "CHOLMOD's loops with no team at all".
 
 namespace hydra_multi {
 
 class SerialOpenMp {
  public:
-  SerialOpenMp() : saved_(omp_get_max_active_levels()) { omp_set_max_active_levels(0); }
-  ~SerialOpenMp() { omp_set_max_active_levels(saved_); }
+  SerialOpenMp();
+  ~SerialOpenMp();
   SerialOpenMp(const SerialOpenMp&) = delete;
   SerialOpenMp& operator=(const SerialOpenMp&) = delete;
 
