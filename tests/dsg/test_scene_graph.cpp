@@ -154,6 +154,8 @@ TEST(SceneGraph, RobotAndLayerQueriesFollowEveryChange) {
       for (const Layer layer : kAllLayers) {
         EXPECT_EQ(g.nodesOfRobot(robot, layer), (of_robot_in_layer[{robot, layer}]))
             << prefix << " " << layerName(layer);
+        EXPECT_EQ(g.numNodes(robot, layer), (of_robot_in_layer[{robot, layer}].size()))
+            << prefix << " " << layerName(layer);
       }
     }
     for (const Layer layer : kAllLayers) {

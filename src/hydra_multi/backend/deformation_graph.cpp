@@ -6,6 +6,7 @@
 #include <limits>
 #include <set>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "hydra_multi/core/nearest_neighbors.h"
 
@@ -32,6 +33,12 @@ PoseGraphEdge edge(NodeId from, NodeId to, const Eigen::Isometry3d& T_from_to, d
 // A gauge prior: the weakest of links from the anchor to a robot's first keyframe, so that a
 // robot whose every inter-robot factor GNC rejects still has a defined place (as aligned).
 constexpr double kGaugeVariance = 1e6;
+
+struct Placed {  // a node's global pose before optimization
+  NodeId id;
+  Eigen::Isometry3d pose;
+  bool control_point = false;
+};
 
 }  // namespace
 
@@ -85,38 +92,56 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
     if (whole) dg.graph.edges.push_back(e);
   };
   std::vector<NodeId> first_keyframes;
-  std::set<NodeId> merged;  // objects in merge candidates become nodes too
-  std::set<NodeId> control_points;
+  std::unordered_set<NodeId> merged;  // objects in merge candidates become nodes too
   for (const PoseGraphEdge& e : merges) {
     merged.insert(e.from);
     merged.insert(e.to);
   }
+  // Every node's global pose and every control point's keyframe, gathered unordered and put in
+  // their maps in id order at the end (one tree look-up per node is most of the assembly).
+  std::vector<Placed> initial;
+  std::vector<std::pair<NodeId, NodeId>> observed_by;
   // At most: the robots' own edges, a place's (or merged object's) tie, a control point's ties,
   // the frames' ties and the robust factors (large at team scale: no growth by copies).
   size_t skeleton_most = inter_robot.size() + merges.size() + robots.size() + merged.size();
   size_t control_most = 0;
+  size_t nodes_most = merged.size();
   for (const RobotDeformationInput& input : robots) {
     if (input.pose_graph != nullptr) skeleton_most += input.pose_graph->size();
-    if (input.control_points != nullptr) control_most += input.control_points->size();
+    if (input.control_points != nullptr) {
+      control_most += input.control_points->size();
+      nodes_most += input.control_points->size();
+    }
     if (input.control_point_edges != nullptr) control_most += input.control_point_edges->size();
-    skeleton_most += frontend.nodesOfRobot(input.robot, Layer::kPlaces).size();
+    skeleton_most += frontend.numNodes(input.robot, Layer::kPlaces);
+    nodes_most += frontend.numNodes(input.robot, Layer::kAgents) +
+                  frontend.numNodes(input.robot, Layer::kPlaces);
   }
   if (whole) dg.graph.edges.reserve(skeleton_most + control_most);
   dg.skeleton.edges.reserve(skeleton_most);
+  initial.reserve(nodes_most);
   for (const RobotDeformationInput& input : robots) {
     const Eigen::Isometry3d& T = input.T_global_robot;
-    std::map<NodeId, Eigen::Isometry3d> local;  // keyframes in the robot's frame
-    std::map<NodeId, int64_t> keyframe_time;
+    // The robot's keyframes in id order, in its own frame, and where each one sits.
+    std::vector<NodeId> kf_ids;
+    std::vector<Eigen::Isometry3d> kf_local;
+    std::vector<Eigen::Vector3d> kf_positions;
+    std::vector<int64_t> kf_times;
+    std::unordered_map<NodeId, size_t> keyframe;
     std::vector<NodeId> places;
     NodeId first;
     int64_t first_time = std::numeric_limits<int64_t>::max();
     for (const NodeId id : frontend.nodesOfRobot(input.robot)) {
       const Node& node = frontend.getNode(id);
       if (node.layer() == Layer::kAgents) {
-        local[id] = nodePose(node);
-        dg.initial[id] = T * local[id];
+        const Eigen::Isometry3d local = nodePose(node);
         const int64_t t = node.find<AgentAttributes>()->timestamp_ns;
-        keyframe_time[id] = t;
+        keyframe.emplace(id, kf_ids.size());
+        kf_ids.push_back(id);
+        kf_local.push_back(local);
+        kf_positions.push_back(local.translation());
+        kf_times.push_back(t);
+        initial.push_back({id, T * local});
         if (t < first_time) {
           first_time = t;
           first = id;
@@ -126,11 +151,12 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
         places.push_back(id);
       }
     }
-    if (local.empty()) continue;
+    if (kf_ids.empty()) continue;
     first_keyframes.push_back(first);
     if (input.pose_graph != nullptr) {
-      for (PoseGraphEdge e : *input.pose_graph) {
-        if (!local.count(e.from) || !local.count(e.to)) continue;
+      for (const PoseGraphEdge& sent : *input.pose_graph) {
+        if (!keyframe.count(sent.from) || !keyframe.count(sent.to)) continue;
+        PoseGraphEdge& e = dg.skeleton.edges.emplace_back(sent);
         const bool closure = e.kind == PoseGraphEdge::Kind::kLoopClosure;
         if (!options.use_sent_information) {
           const double variance =
@@ -144,7 +170,6 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
               Eigen::Matrix3d::Identity() / options.odometry_rotation_variance;
         }
         toWhole(e);
-        dg.skeleton.edges.push_back(e);
         if (closure) ++dg.robust_factors;
       }
     }
@@ -153,22 +178,22 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
     std::vector<Eigen::Vector3d> cp_positions;
     std::vector<int64_t> cp_times;
     std::vector<NodeId> cp_ids;
-    std::map<uint64_t, const ControlPoint*> cp_by_index;
+    std::unordered_map<uint64_t, const ControlPoint*> cp_by_index;
     if (input.control_points != nullptr) {
+      if (whole) cp_by_index.reserve(input.control_points->size());
       for (const ControlPoint& cp : *input.control_points) {
         const NodeId id = controlPointId(input.robot, cp.id);
-        dg.initial[id] = T * at(cp.position);
-        control_points.insert(id);
+        initial.push_back({id, T * at(cp.position), true});
         if (whole) {  // for the whole graph's ties
           cp_positions.push_back(cp.position);
           cp_times.push_back(cp.time_ns);
           cp_ids.push_back(id);
           cp_by_index[cp.id] = &cp;
         }
-        const auto keyframe = local.find(cp.keyframe);
-        if (keyframe != local.end()) {
-          dg.observed_by[id] = cp.keyframe;
-          toWhole(edge(cp.keyframe, id, keyframe->second.inverse() * at(cp.position),
+        const auto k = keyframe.find(cp.keyframe);
+        if (k != keyframe.end()) {
+          observed_by.emplace_back(id, cp.keyframe);
+          toWhole(edge(cp.keyframe, id, kf_local[k->second].inverse() * at(cp.position),
                        options.mesh_variance));
         }
       }
@@ -186,24 +211,15 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
     // Places (and merge-candidate objects): linked to the nearest control point, or else the
     // nearest keyframe, of those the robot made about when it placed the node (madeAtNs).
     const TimedNeighbors near_cp(cp_positions, cp_times, window);
-    std::vector<Eigen::Vector3d> kf_positions;
-    std::vector<int64_t> kf_times;
-    std::vector<NodeId> kf_ids;
-    for (const auto& [id, pose] : local) {
-      kf_positions.push_back(pose.translation());
-      kf_times.push_back(keyframe_time[id]);
-      kf_ids.push_back(id);
-    }
     const TimedNeighbors near_kf(kf_positions, kf_times, window);
     for (const NodeId place : places) {
       const Node& node = frontend.getNode(place);
       const Eigen::Vector3d p = node.position;
-      dg.initial[place] = T * at(p);
+      initial.push_back({place, T * at(p)});
       const int64_t made = madeAtNs(node, input.mesh);
       const size_t k = near_kf.nearest(p, made).front().index;
-      const PoseGraphEdge to_keyframe =
-          edge(kf_ids[k], place, local[kf_ids[k]].inverse() * at(p), options.mesh_variance);
-      dg.skeleton.edges.push_back(to_keyframe);
+      const PoseGraphEdge& to_keyframe = dg.skeleton.edges.emplace_back(
+          edge(kf_ids[k], place, kf_local[k].inverse() * at(p), options.mesh_variance));
       if (!whole) continue;
       const auto cp = near_cp.nearest(p, made);
       if (!cp.empty() && cp.front().distance <= options.place_link_radius) {
@@ -214,6 +230,25 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
         dg.graph.edges.push_back(to_keyframe);
       }
     }
+  }
+  // Into the maps in id order, each insertion at the end. A node given twice keeps its last pose,
+  // and stays out of the skeleton if it was ever a control point.
+  std::stable_sort(initial.begin(), initial.end(),
+                   [](const Placed& a, const Placed& b) { return a.id < b.id; });
+  bool control_point = false;
+  for (size_t i = 0; i < initial.size(); ++i) {
+    control_point = control_point || initial[i].control_point;
+    if (i + 1 < initial.size() && initial[i + 1].id == initial[i].id) continue;
+    dg.initial.emplace_hint(dg.initial.end(), initial[i].id, initial[i].pose);
+    if (!control_point)
+      dg.skeleton.poses.emplace_hint(dg.skeleton.poses.end(), initial[i].id, initial[i].pose);
+    control_point = false;
+  }
+  std::stable_sort(observed_by.begin(), observed_by.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (size_t i = 0; i < observed_by.size(); ++i) {
+    if (i + 1 < observed_by.size() && observed_by[i + 1].first == observed_by[i].first) continue;
+    dg.observed_by.emplace_hint(dg.observed_by.end(), observed_by[i]);
   }
   if (first_keyframes.empty()) return dg;
   dg.anchor = first_keyframes.front();
@@ -237,10 +272,6 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
       if (list == &inter_robot) ++dg.inter_robot_factors;
       if (list == &merges) dg.merge_factors.insert({e.from, e.to});
     }
-  }
-  for (const auto& [id, pose] : dg.initial) {
-    if (!control_points.count(id))
-      dg.skeleton.poses.emplace_hint(dg.skeleton.poses.end(), id, pose);
   }
   return dg;
 }

@@ -233,6 +233,11 @@ size_t SceneGraph::numNodes(Layer layer) const {
   return it == by_layer_.end() ? 0 : it->second.size();
 }
 
+size_t SceneGraph::numNodes(RobotId robot, Layer layer) const {
+  const auto it = by_robot_layer_.find({robot, layer});
+  return it == by_robot_layer_.end() ? 0 : it->second.size();
+}
+
 void SceneGraph::mergeNodes(NodeId target, NodeId source, MergeRecord* record) {
   const Node* target_node = findNode(target);
   const Node* source_node = findNode(source);

@@ -82,6 +82,8 @@ class SceneGraph {
   std::vector<RobotId> robots() const;
   size_t numNodes() const { return nodes_.size(); }
   size_t numNodes(Layer layer) const;
+  /// How many nodesOfRobot(robot, layer) gives, without the copy.
+  size_t numNodes(RobotId robot, Layer layer) const;
   size_t numEdges() const { return edges_.size(); }
   const std::map<NodeId, Node>& nodes() const { return nodes_; }
   const std::map<EdgeKey, EdgeAttributes>& edges() const { return edges_; }
