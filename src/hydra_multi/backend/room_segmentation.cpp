@@ -1,45 +1,76 @@
 #include "hydra_multi/backend/room_segmentation.h"
 
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <queue>
-#include <set>
+#include <unordered_map>
 
 namespace hydra_multi {
 namespace {
 
-double radius(const SceneGraph& graph, NodeId place) {
-  return graph.getNode(place).find<PlaceAttributes>()->distance;
-}
+// The places graph, by index in id order, read once for every threshold and the growth.
+struct PlacesGraph {
+  struct Link {
+    size_t to;
+    bool weighted;
+    double weight;
+  };
+  std::vector<NodeId> ids;  // sorted
+  std::vector<double> radius;
+  std::vector<Eigen::Vector3d> position;
+  std::vector<std::vector<Link>> links;  // each place's neighbours in the layer, in id order
 
-// Connected components of the places above the threshold, joined by edges above it.
-std::vector<std::vector<NodeId>> components(const SceneGraph& graph,
-                                            const std::vector<NodeId>& places, double threshold) {
-  std::set<NodeId> kept;
-  for (const NodeId p : places) {
-    if (radius(graph, p) > threshold) kept.insert(p);
-  }
-  std::set<NodeId> visited;
-  std::vector<std::vector<NodeId>> result;
-  for (const NodeId start : kept) {
-    if (visited.count(start)) continue;
-    std::vector<NodeId> component;
-    std::vector<NodeId> stack = {start};
-    visited.insert(start);
-    while (!stack.empty()) {
-      const NodeId p = stack.back();
-      stack.pop_back();
-      component.push_back(p);
-      for (const NodeId q : graph.neighbours(p)) {
-        if (!kept.count(q) || visited.count(q)) continue;
-        const EdgeAttributes* edge = graph.findEdge(p, q);
-        if (edge == nullptr || (edge->weighted && edge->weight <= threshold)) continue;
-        visited.insert(q);
-        stack.push_back(q);
+  PlacesGraph(const SceneGraph& graph, std::vector<NodeId> places) : ids(std::move(places)) {
+    std::unordered_map<NodeId, size_t> index;
+    index.reserve(ids.size());
+    for (size_t i = 0; i < ids.size(); ++i) index.emplace(ids[i], i);
+    radius.resize(ids.size());
+    position.resize(ids.size());
+    links.resize(ids.size());
+    for (size_t i = 0; i < ids.size(); ++i) {
+      const Node& node = graph.getNode(ids[i]);
+      radius[i] = node.find<PlaceAttributes>()->distance;
+      position[i] = node.position;
+      for (const NodeId q : graph.neighbours(ids[i])) {
+        const auto j = index.find(q);
+        if (j == index.end()) continue;
+        const EdgeAttributes* edge = graph.findEdge(ids[i], q);
+        links[i].push_back({j->second, edge->weighted, edge->weight});
       }
     }
-    std::sort(component.begin(), component.end());
-    result.push_back(std::move(component));
+  }
+};
+
+// Connected components of the places above the threshold, joined by edges above it; each
+// component sorted, the components in the order of their first place.
+std::vector<std::vector<NodeId>> components(const PlacesGraph& places, double threshold) {
+  const size_t n = places.ids.size();
+  std::vector<bool> kept(n), visited(n, false);
+  for (size_t i = 0; i < n; ++i) kept[i] = places.radius[i] > threshold;
+  std::vector<std::vector<NodeId>> result;
+  std::vector<size_t> stack;
+  for (size_t start = 0; start < n; ++start) {
+    if (!kept[start] || visited[start]) continue;
+    std::vector<size_t> component;
+    stack.assign(1, start);
+    visited[start] = true;
+    while (!stack.empty()) {
+      const size_t p = stack.back();
+      stack.pop_back();
+      component.push_back(p);
+      for (const PlacesGraph::Link& link : places.links[p]) {
+        if (!kept[link.to] || visited[link.to]) continue;
+        if (link.weighted && link.weight <= threshold) continue;
+        visited[link.to] = true;
+        stack.push_back(link.to);
+      }
+    }
+    std::sort(component.begin(), component.end());  // index order is id order
+    std::vector<NodeId> ids;
+    ids.reserve(component.size());
+    for (const size_t i : component) ids.push_back(places.ids[i]);
+    result.push_back(std::move(ids));
   }
   return result;
 }
@@ -48,8 +79,9 @@ std::vector<std::vector<NodeId>> components(const SceneGraph& graph,
 
 RoomSegmentation segmentRooms(const SceneGraph& graph, const RoomSegmentationOptions& options) {
   RoomSegmentation segmentation;
-  const std::vector<NodeId> places = graph.nodesInLayer(Layer::kPlaces);
-  if (places.empty() || options.thresholds < 1) return segmentation;
+  std::vector<NodeId> place_ids = graph.nodesInLayer(Layer::kPlaces);
+  if (place_ids.empty() || options.thresholds < 1) return segmentation;
+  const PlacesGraph places(graph, std::move(place_ids));
   std::vector<std::vector<std::vector<NodeId>>> seeds;
   std::vector<double> thresholds;
   for (int i = 0; i < options.thresholds; ++i) {
@@ -58,7 +90,7 @@ RoomSegmentation segmentRooms(const SceneGraph& graph, const RoomSegmentationOpt
                          : options.min_threshold + (options.max_threshold - options.min_threshold) *
                                                        i / (options.thresholds - 1);
     std::vector<std::vector<NodeId>> big;
-    for (auto& c : components(graph, places, t)) {
+    for (auto& c : components(places, t)) {
       if (c.size() >= options.min_room_places) big.push_back(std::move(c));
     }
     thresholds.push_back(t);
@@ -76,12 +108,16 @@ RoomSegmentation segmentRooms(const SceneGraph& graph, const RoomSegmentationOpt
   const auto& room_seeds = seeds[chosen];
   if (room_seeds.empty()) return segmentation;
 
-  // Grow: Dijkstra from every seed at once over the places graph.
-  std::map<NodeId, std::pair<double, size_t>> best;  // place -> (distance, room)
-  using Item = std::pair<double, std::pair<NodeId, size_t>>;
+  // Grow: Dijkstra from every seed at once over the places graph (ties broken by id order).
+  const size_t n = places.ids.size();
+  constexpr size_t kNone = std::numeric_limits<size_t>::max();
+  std::vector<std::pair<double, size_t>> best(n, {0.0, kNone});  // place -> (distance, room)
+  using Item = std::pair<double, std::pair<size_t, size_t>>;
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
   for (size_t r = 0; r < room_seeds.size(); ++r) {
-    for (const NodeId p : room_seeds[r]) {
+    for (const NodeId id : room_seeds[r]) {
+      const size_t p =
+          size_t(std::lower_bound(places.ids.begin(), places.ids.end(), id) - places.ids.begin());
       best[p] = {0.0, r};
       queue.push({0.0, {p, r}});
     }
@@ -91,15 +127,11 @@ RoomSegmentation segmentRooms(const SceneGraph& graph, const RoomSegmentationOpt
     queue.pop();
     const auto [p, r] = item;
     if (best[p].first < d || best[p].second != r) continue;
-    const Eigen::Vector3d& from = graph.getNode(p).position;
-    for (const NodeId q : graph.neighbours(p)) {
-      const Node& n = graph.getNode(q);
-      if (n.layer() != Layer::kPlaces) continue;
-      const double through = d + (n.position - from).norm();
-      const auto known = best.find(q);
-      if (known == best.end() || through < known->second.first) {
-        best[q] = {through, r};
-        queue.push({through, {q, r}});
+    for (const PlacesGraph::Link& link : places.links[p]) {
+      const double through = d + (places.position[link.to] - places.position[p]).norm();
+      if (best[link.to].second == kNone || through < best[link.to].first) {
+        best[link.to] = {through, r};
+        queue.push({through, {link.to, r}});
       }
     }
   }
@@ -111,14 +143,14 @@ RoomSegmentation segmentRooms(const SceneGraph& graph, const RoomSegmentationOpt
     return r;
   };
   if (options.max_door_radius > 0.0) {
-    for (const auto& [p, entry] : best) {
-      for (const NodeId q : graph.neighbours(p)) {
-        const auto other = best.find(q);
-        if (other == best.end() || other->second.second == entry.second) continue;
-        const EdgeAttributes* edge = graph.findEdge(p, q);
+    for (size_t p = 0; p < n; ++p) {
+      if (best[p].second == kNone) continue;
+      for (const PlacesGraph::Link& link : places.links[p]) {
+        const size_t other = best[link.to].second;
+        if (other == kNone || other == best[p].second) continue;
         // An unweighted edge says nothing of the opening's width.
-        if (edge == nullptr || !edge->weighted || edge->weight <= options.max_door_radius) continue;
-        parent[find(entry.second)] = find(other->second.second);
+        if (!link.weighted || link.weight <= options.max_door_radius) continue;
+        parent[find(best[p].second)] = find(other);
       }
     }
   }
@@ -126,9 +158,10 @@ RoomSegmentation segmentRooms(const SceneGraph& graph, const RoomSegmentationOpt
   for (size_t r = 0; r < parent.size(); ++r)
     index_of_root.try_emplace(find(r), index_of_root.size());
   segmentation.rooms.assign(index_of_root.size(), {});
-  for (const auto& [place, entry] : best)
-    segmentation.rooms[index_of_root.at(find(entry.second))].push_back(place);
-  for (auto& room : segmentation.rooms) std::sort(room.begin(), room.end());
+  for (size_t p = 0; p < n; ++p) {
+    if (best[p].second != kNone)
+      segmentation.rooms[index_of_root.at(find(best[p].second))].push_back(places.ids[p]);
+  }
   return segmentation;
 }
 
