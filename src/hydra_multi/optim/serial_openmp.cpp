@@ -38,10 +38,8 @@ SerialOpenMp::~SerialOpenMp() {
 // libgomp's worksharing, single and barrier calls act as for one thread, so calling `fn` directly
 // is the same region on this thread alone. Without libgomp's entry (none found) likewise.
 extern "C" void GOMP_parallel(void (*fn)(void*), void* data, unsigned num_threads, unsigned flags) {
+  if (hydra_multi::serial_depth > 0) return fn(data);  // CHOLMOD's regions: this check alone
   const hydra_multi::ParallelEntry libgomp = hydra_multi::libgompParallel();
-  if (hydra_multi::serial_depth > 0 || libgomp == nullptr) {
-    fn(data);
-  } else {
-    libgomp(fn, data, num_threads, flags);
-  }
+  if (libgomp == nullptr) return fn(data);
+  libgomp(fn, data, num_threads, flags);
 }
