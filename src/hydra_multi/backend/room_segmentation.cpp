@@ -42,13 +42,13 @@ struct PlacesGraph {
   }
 };
 
-// Connected components of the places above the threshold, joined by edges above it; each
-// component sorted, the components in the order of their first place.
-std::vector<std::vector<NodeId>> components(const PlacesGraph& places, double threshold) {
+// Connected components of the places above the threshold, joined by edges above it, as indices;
+// each component sorted, the components in the order of their first place.
+std::vector<std::vector<size_t>> components(const PlacesGraph& places, double threshold) {
   const size_t n = places.ids.size();
   std::vector<bool> kept(n), visited(n, false);
   for (size_t i = 0; i < n; ++i) kept[i] = places.radius[i] > threshold;
-  std::vector<std::vector<NodeId>> result;
+  std::vector<std::vector<size_t>> result;
   std::vector<size_t> stack;
   for (size_t start = 0; start < n; ++start) {
     if (!kept[start] || visited[start]) continue;
@@ -67,10 +67,7 @@ std::vector<std::vector<NodeId>> components(const PlacesGraph& places, double th
       }
     }
     std::sort(component.begin(), component.end());  // index order is id order
-    std::vector<NodeId> ids;
-    ids.reserve(component.size());
-    for (const size_t i : component) ids.push_back(places.ids[i]);
-    result.push_back(std::move(ids));
+    result.push_back(std::move(component));
   }
   return result;
 }
@@ -82,14 +79,14 @@ RoomSegmentation segmentRooms(const SceneGraph& graph, const RoomSegmentationOpt
   std::vector<NodeId> place_ids = graph.nodesInLayer(Layer::kPlaces);
   if (place_ids.empty() || options.thresholds < 1) return segmentation;
   const PlacesGraph places(graph, std::move(place_ids));
-  std::vector<std::vector<std::vector<NodeId>>> seeds;
+  std::vector<std::vector<std::vector<size_t>>> seeds;
   std::vector<double> thresholds;
   for (int i = 0; i < options.thresholds; ++i) {
     const double t = options.thresholds == 1
                          ? options.min_threshold
                          : options.min_threshold + (options.max_threshold - options.min_threshold) *
                                                        i / (options.thresholds - 1);
-    std::vector<std::vector<NodeId>> big;
+    std::vector<std::vector<size_t>> big;
     for (auto& c : components(places, t)) {
       if (c.size() >= options.min_room_places) big.push_back(std::move(c));
     }
@@ -115,9 +112,7 @@ RoomSegmentation segmentRooms(const SceneGraph& graph, const RoomSegmentationOpt
   using Item = std::pair<double, std::pair<size_t, size_t>>;
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
   for (size_t r = 0; r < room_seeds.size(); ++r) {
-    for (const NodeId id : room_seeds[r]) {
-      const size_t p =
-          size_t(std::lower_bound(places.ids.begin(), places.ids.end(), id) - places.ids.begin());
+    for (const size_t p : room_seeds[r]) {
       best[p] = {0.0, r};
       queue.push({0.0, {p, r}});
     }
