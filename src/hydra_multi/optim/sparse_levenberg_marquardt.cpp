@@ -1,7 +1,6 @@
 #include "hydra_multi/optim/sparse_levenberg_marquardt.h"
 
 #include <ceres/ceres.h>
-#include <Eigen/Cholesky>
 
 #include <algorithm>
 #include <chrono>
@@ -29,14 +28,47 @@ constexpr int kMaxConsecutiveInvalidSteps = 5;
 
 }  // namespace
 
+bool sparse_lm::inverseOfPositiveDefinite(const Block& D, Block& inverse) {
+  double L[6][6];  // lower triangle
+  double reciprocal[6];
+  for (int j = 0; j < 6; ++j) {
+    double d = D(j, j);
+    for (int k = 0; k < j; ++k) d -= L[j][k] * L[j][k];
+    if (!(d > 0.0)) return false;
+    reciprocal[j] = 1.0 / std::sqrt(d);
+    for (int i = j + 1; i < 6; ++i) {
+      double s = D(i, j);
+      for (int k = 0; k < j; ++k) s -= L[i][k] * L[j][k];
+      L[i][j] = s * reciprocal[j];
+    }
+  }
+  double W[6][6];  // L^-1, lower triangle, by forward substitution column by column
+  for (int j = 0; j < 6; ++j) {
+    W[j][j] = reciprocal[j];
+    for (int i = j + 1; i < 6; ++i) {
+      double s = 0.0;
+      for (int k = j; k < i; ++k) s -= L[i][k] * W[k][j];
+      W[i][j] = s * reciprocal[i];
+    }
+  }
+  for (int j = 0; j < 6; ++j) {
+    for (int i = j; i < 6; ++i) {
+      double s = 0.0;
+      for (int k = i; k < 6; ++k) s += W[k][i] * W[k][j];
+      inverse(i, j) = s;
+      inverse(j, i) = s;
+    }
+  }
+  return true;
+}
+
 bool SparseLevenbergMarquardt::Impl::eliminate(Eigen::VectorXd& rhs) {
   solved_rhs.resize(eliminations.size());
   neighbour_products.resize(eliminations.size());
   for (size_t k = 0; k < eliminations.size(); ++k) {
     const Elimination& e = eliminations[k];
-    const Eigen::LLT<Block> llt(read(diagonal_block[e.v], true));
-    if (llt.info() != Eigen::Success) return false;
-    const Block inverse = llt.solve(Block::Identity());
+    Block inverse;
+    if (!inverseOfPositiveDefinite(read(diagonal_block[e.v], true), inverse)) return false;
     const Vector6 r = rhs.segment<6>(6 * e.v);
     solved_rhs[k] = inverse * r;
     std::array<Block, 2> B;

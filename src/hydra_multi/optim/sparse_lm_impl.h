@@ -29,6 +29,11 @@ using AmbientJacobian =
 constexpr long kNone = -1;
 constexpr size_t kThreadsFrom = 4096;  // terms: fewer are linearized on one thread
 
+// The inverse of a symmetric 6x6 block D (its lower triangle read) through its Cholesky factor,
+// D = L L^T and D^-1 = L^-T L^-1, exactly symmetric; false where D is not positive definite (a
+// pivot not above zero, or not a number).
+bool inverseOfPositiveDefinite(const Block& D, Block& inverse);
+
 }  // namespace sparse_lm
 
 struct SparseLevenbergMarquardt::Impl {
@@ -100,20 +105,21 @@ struct SparseLevenbergMarquardt::Impl {
     cholmod_l_finish(&common);
   }
 
-  // Adds m to block `block` of H (a diagonal block: its upper triangle).
+  // Adds m to block `block` of H (a diagonal block: its upper triangle), run by run of A.
   void add(long block, const Block& m, bool diagonal) {
     if (block == kNone) return;
     double* x = static_cast<double*>(H->x);
     const long* at = &column[6 * block];
     if (transposed[block]) {
-      for (int c = 0; c < 6; ++c) {
-        const int rows = diagonal ? c + 1 : 6;
-        for (int r = 0; r < rows; ++r) x[at[r] + c] += m(r, c);
+      for (int r = 0; r < 6; ++r) {
+        double* run = x + at[r];
+        for (int c = diagonal ? r : 0; c < 6; ++c) run[c] += m(r, c);
       }
     } else {
       for (int c = 0; c < 6; ++c) {
+        double* run = x + at[c];
         const int rows = diagonal ? c + 1 : 6;
-        for (int r = 0; r < rows; ++r) x[at[c] + r] += m(r, c);
+        for (int r = 0; r < rows; ++r) run[r] += m(r, c);
       }
     }
   }
@@ -128,13 +134,22 @@ struct SparseLevenbergMarquardt::Impl {
   // Block `block` of H as stored: H_rc for its pair (r, c), a diagonal block made symmetric.
   Block read(long block, bool diagonal) const {
     const double* x = static_cast<const double*>(H->x);
+    const long* at = &column[6 * block];
     Block m;
-    for (int c = 0; c < 6; ++c) {
+    if (transposed[block]) {
       for (int r = 0; r < 6; ++r) {
-        if (diagonal && r > c) continue;
-        m(r, c) = x[slot(block, r, c)];
-        if (diagonal) m(c, r) = m(r, c);
+        const double* run = x + at[r];
+        for (int c = diagonal ? r : 0; c < 6; ++c) m(r, c) = run[c];
       }
+    } else {
+      for (int c = 0; c < 6; ++c) {
+        const double* run = x + at[c];
+        const int rows = diagonal ? c + 1 : 6;
+        for (int r = 0; r < rows; ++r) m(r, c) = run[r];
+      }
+    }
+    for (int c = 0; c < 6 && diagonal; ++c) {
+      for (int r = c + 1; r < 6; ++r) m(r, c) = m(c, r);
     }
     return m;
   }
