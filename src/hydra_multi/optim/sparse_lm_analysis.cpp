@@ -182,7 +182,8 @@ void SparseLevenbergMarquardt::Impl::analyze(size_t num_poses, const std::vector
     for (auto& column : columns) std::sort(column.begin(), column.end());
     return columns;
   };
-  // A as a CHOLMOD matrix (values zero; only the pattern for `values` false) and, with `values`,
+  // A as a CHOLMOD matrix (values unset, as each linearization sets them all first; only the
+  // pattern for `values` false) and, with `values`,
   // `column` and `transposed`, the eliminated blocks' values after A's. An entry (i, j) of A's
   // block at (R, C) is H's entry (i, j) of its block where R is that block's row variable and R !=
   // C, else (j, i); a diagonal block keeps one triangle.
@@ -222,7 +223,6 @@ void SparseLevenbergMarquardt::Impl::analyze(size_t num_poses, const std::vector
         for (int c = 0; c < 6; ++c) m.column[6 * k + c] = at + 6 * c;
         at += 36;
       }
-      std::fill_n(static_cast<double*>(A->x), at, 0.0);
     }
     return A;
   };
