@@ -185,6 +185,11 @@ struct SparseLevenbergMarquardt::Impl {
   // Which thread adds what (visits), for `threads` threads: each owns a contiguous range of
   // variables holding about 1/threads of the terms' ends.
   void partition(size_t threads);
+  // Adds a term's parts (Part) to H, g and term_cost from its residual r and tangent Jacobians:
+  // fixed 6-row matrices for a geodesic term, up to kMaxResiduals rows else.
+  template <typename ResidualType, typename JacobianType>
+  void addTerm(size_t k, uint8_t parts, double w, Eigen::VectorXd& g, const ResidualType& r,
+               const JacobianType& J_i, const JacobianType& J_j);
   // Adds term k's parts (Part) at `poses` to H, g and term_cost; false if it cannot be evaluated.
   bool linearizeTerm(size_t k, uint8_t parts, const std::vector<PoseParameters>& poses, double w,
                      Eigen::VectorXd& g, Residual& r, JacobianRows& J_i, JacobianRows& J_j);

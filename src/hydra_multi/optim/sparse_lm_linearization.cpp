@@ -122,11 +122,10 @@ void SparseLevenbergMarquardt::Impl::partition(size_t threads) {
   }
 }
 
-bool SparseLevenbergMarquardt::Impl::linearizeTerm(size_t k, uint8_t parts,
-                                                   const std::vector<PoseParameters>& poses,
-                                                   double w, Eigen::VectorXd& g, Residual& r,
-                                                   JacobianRows& J_i, JacobianRows& J_j) {
-  if (!evaluate(k, poses, r, &J_i, &J_j)) return false;
+template <typename ResidualType, typename JacobianType>
+void SparseLevenbergMarquardt::Impl::addTerm(size_t k, uint8_t parts, double w, Eigen::VectorXd& g,
+                                             const ResidualType& r, const JacobianType& J_i,
+                                             const JacobianType& J_j) {
   if (parts & kOwnCost) term_cost[k] = 0.5 * w * r.squaredNorm();
   const long vi = variable[terms[k].i], vj = variable[terms[k].j];
   const TermBlocks& b = term_blocks[k];
@@ -139,9 +138,28 @@ bool SparseLevenbergMarquardt::Impl::linearizeTerm(size_t k, uint8_t parts,
     g.segment<6>(6 * vj) += w * J_j.transpose() * r;
   }
   if (parts & kOwnIJ) {
-    const Block m = vi < vj ? Block(w * J_i.transpose() * J_j) : Block(w * J_j.transpose() * J_i);
-    add(b.ij, m, false);
+    const Block ij = vi < vj ? Block(w * J_i.transpose() * J_j) : Block(w * J_j.transpose() * J_i);
+    add(b.ij, ij, false);
   }
+}
+
+bool SparseLevenbergMarquardt::Impl::linearizeTerm(size_t k, uint8_t parts,
+                                                   const std::vector<PoseParameters>& poses,
+                                                   double w, Eigen::VectorXd& g, Residual& r,
+                                                   JacobianRows& J_i, JacobianRows& J_j) {
+  const LmTerm& term = terms[k];
+  if (term.geodesic != nullptr) {
+    const PoseParameters& a = poses[term.i];
+    const PoseParameters& b = poses[term.j];
+    Vector6 r6;
+    Block J6_i, J6_j;
+    term.geodesic->evaluate(a.q, a.t, b.q, b.t, r6, variable[term.i] != kNone ? &J6_i : nullptr,
+                            variable[term.j] != kNone ? &J6_j : nullptr);
+    addTerm(k, parts, w, g, r6, J6_i, J6_j);
+    return true;
+  }
+  if (!evaluate(k, poses, r, &J_i, &J_j)) return false;
+  addTerm(k, parts, w, g, r, J_i, J_j);
   return true;
 }
 
