@@ -10,7 +10,7 @@ namespace hydra_multi {
 namespace {
 
 using sparse_lm::Block;
-using sparse_lm::inverseOfPositiveDefinite;
+using sparse_lm::Vector6;
 
 // A random symmetric positive definite block: Q diag(lambda) Q^T with eigenvalues from `low` to
 // `high`, as the damped diagonal blocks of H range.
@@ -22,40 +22,46 @@ Block randomPositiveDefinite(std::mt19937& rng, double low, double high) {
   }
   const Eigen::HouseholderQR<Block> qr(M);
   const Block Q = qr.householderQ();
-  Eigen::Matrix<double, 6, 1> lambda;
+  Vector6 lambda;
   for (int k = 0; k < 6; ++k) lambda[k] = low * std::pow(high / low, k / 5.0);
   const Block D = Q * lambda.asDiagonal() * Q.transpose();
   return Block((D + D.transpose()) / 2);
 }
 
-// An eliminated pose's diagonal block is inverted through its Cholesky factor: the inverse is
-// exactly symmetric and, within the block's conditioning, what a general inverse gives.
-TEST(SparseLmBlocks, APositiveDefiniteBlockIsInvertedSymmetrically) {
+// An eliminated pose's diagonal block is factored as D = L L^T, L lower triangular, and the two
+// substitutions with L solve D x = b as a general solver does, within the block's conditioning.
+TEST(SparseLmBlocks, APositiveDefiniteBlockIsFactoredAndSolved) {
   std::mt19937 rng(91);
+  std::normal_distribution<double> gauss(0.0, 1.0);
   for (const auto& [low, high] : {std::pair{1.0, 10.0}, {1e-6, 1e4}, {1e2, 1e8}}) {
     for (int trial = 0; trial < 20; ++trial) {
       const Block D = randomPositiveDefinite(rng, low, high);
-      Block inverse;
-      ASSERT_TRUE(inverseOfPositiveDefinite(D, inverse));
-      EXPECT_EQ(inverse, inverse.transpose());
-      const double condition = high / low;
-      const Block product = D * inverse;
-      EXPECT_LT((product - Block::Identity()).norm(), 1e-14 * condition) << low << " " << high;
-      const Block general = D.inverse();
-      EXPECT_LT((inverse - general).norm(), 1e-14 * condition * general.norm());
+      Block L;
+      L.setConstant(7.0);  // whatever was there before
+      ASSERT_TRUE(sparse_lm::choleskyFactor(D, L));
+      EXPECT_TRUE(L.triangularView<Eigen::StrictlyUpper>().toDenseMatrix().isZero(0.0));
+      EXPECT_LT((L * L.transpose() - D).norm(), 1e-14 * D.norm()) << low << " " << high;
+      Vector6 b;
+      for (int k = 0; k < 6; ++k) b[k] = gauss(rng);
+      Vector6 x = b;
+      sparse_lm::solveLower(L, x);
+      EXPECT_LT((L * x - b).norm(), 1e-12 * b.norm() * std::sqrt(high / low));
+      sparse_lm::solveLowerTransposed(L, x);
+      const Vector6 general = D.fullPivLu().solve(b);
+      EXPECT_LT((x - general).norm(), 1e-14 * (high / low) * general.norm());
     }
   }
 }
 
-// Only the lower triangle is read: an upper triangle left unset does not change the inverse.
+// Only the lower triangle is read: an upper triangle left unset does not change the factor.
 TEST(SparseLmBlocks, OnlyTheLowerTriangleIsRead) {
   std::mt19937 rng(92);
   const Block D = randomPositiveDefinite(rng, 0.5, 50.0);
   Block lower = D;
   lower.triangularView<Eigen::StrictlyUpper>().setConstant(1e300);
   Block from_full, from_lower;
-  ASSERT_TRUE(inverseOfPositiveDefinite(D, from_full));
-  ASSERT_TRUE(inverseOfPositiveDefinite(lower, from_lower));
+  ASSERT_TRUE(sparse_lm::choleskyFactor(D, from_full));
+  ASSERT_TRUE(sparse_lm::choleskyFactor(lower, from_lower));
   EXPECT_EQ(from_full, from_lower);
 }
 
@@ -64,18 +70,18 @@ TEST(SparseLmBlocks, OnlyTheLowerTriangleIsRead) {
 TEST(SparseLmBlocks, ABlockThatIsNotPositiveDefiniteIsRefused) {
   std::mt19937 rng(93);
   const Block D = randomPositiveDefinite(rng, 1.0, 10.0);
-  const Eigen::Matrix<double, 6, 1> v = Eigen::Matrix<double, 6, 1>::Ones().normalized();
-  Block inverse;
+  const Vector6 v = Vector6::Ones().normalized();
+  Block L;
   // D - 20 v v^T, v a unit vector: an eigenvalue below 10 - 20 < 0.
-  EXPECT_FALSE(inverseOfPositiveDefinite(Block(D - 20.0 * v * v.transpose()), inverse));
-  EXPECT_FALSE(inverseOfPositiveDefinite(Block::Zero(), inverse));
+  EXPECT_FALSE(sparse_lm::choleskyFactor(Block(D - 20.0 * v * v.transpose()), L));
+  EXPECT_FALSE(sparse_lm::choleskyFactor(Block::Zero(), L));
   Block nan = D;
   nan(3, 2) = std::numeric_limits<double>::quiet_NaN();
   nan(2, 3) = nan(3, 2);
-  EXPECT_FALSE(inverseOfPositiveDefinite(nan, inverse));
+  EXPECT_FALSE(sparse_lm::choleskyFactor(nan, L));
   Block nan_pivot = D;
   nan_pivot(0, 0) = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_FALSE(inverseOfPositiveDefinite(nan_pivot, inverse));
+  EXPECT_FALSE(sparse_lm::choleskyFactor(nan_pivot, L));
 }
 
 }  // namespace

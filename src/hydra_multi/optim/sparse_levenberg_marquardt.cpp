@@ -28,59 +28,64 @@ constexpr int kMaxConsecutiveInvalidSteps = 5;
 
 }  // namespace
 
-bool sparse_lm::inverseOfPositiveDefinite(const Block& D, Block& inverse) {
-  double L[6][6];  // lower triangle
-  double reciprocal[6];
+bool sparse_lm::choleskyFactor(const Block& D, Block& L) {
   for (int j = 0; j < 6; ++j) {
     double d = D(j, j);
-    for (int k = 0; k < j; ++k) d -= L[j][k] * L[j][k];
+    for (int k = 0; k < j; ++k) d -= L(j, k) * L(j, k);
     if (!(d > 0.0)) return false;
-    reciprocal[j] = 1.0 / std::sqrt(d);
+    L(j, j) = std::sqrt(d);
+    const double reciprocal = 1.0 / L(j, j);
     for (int i = j + 1; i < 6; ++i) {
       double s = D(i, j);
-      for (int k = 0; k < j; ++k) s -= L[i][k] * L[j][k];
-      L[i][j] = s * reciprocal[j];
+      for (int k = 0; k < j; ++k) s -= L(i, k) * L(j, k);
+      L(i, j) = s * reciprocal;
     }
-  }
-  double W[6][6];  // L^-1, lower triangle, by forward substitution column by column
-  for (int j = 0; j < 6; ++j) {
-    W[j][j] = reciprocal[j];
-    for (int i = j + 1; i < 6; ++i) {
-      double s = 0.0;
-      for (int k = j; k < i; ++k) s -= L[i][k] * W[k][j];
-      W[i][j] = s * reciprocal[i];
-    }
-  }
-  for (int j = 0; j < 6; ++j) {
-    for (int i = j; i < 6; ++i) {
-      double s = 0.0;
-      for (int k = i; k < 6; ++k) s += W[k][i] * W[k][j];
-      inverse(i, j) = s;
-      inverse(j, i) = s;
-    }
+    for (int i = 0; i < j; ++i) L(i, j) = 0.0;
   }
   return true;
 }
 
+void sparse_lm::solveLower(const Block& L, Vector6& x) {
+  for (int i = 0; i < 6; ++i) {
+    double s = x[i];
+    for (int k = 0; k < i; ++k) s -= L(i, k) * x[k];
+    x[i] = s / L(i, i);
+  }
+}
+
+void sparse_lm::solveLowerTransposed(const Block& L, Vector6& x) {
+  for (int i = 6; i-- > 0;) {
+    double s = x[i];
+    for (int k = i + 1; k < 6; ++k) s -= L(k, i) * x[k];
+    x[i] = s / L(i, i);
+  }
+}
+
 bool SparseLevenbergMarquardt::Impl::eliminate(Eigen::VectorXd& rhs) {
+  factors.resize(eliminations.size());
   solved_rhs.resize(eliminations.size());
   neighbour_products.resize(eliminations.size());
   for (size_t k = 0; k < eliminations.size(); ++k) {
     const Elimination& e = eliminations[k];
-    Block inverse;
-    if (!inverseOfPositiveDefinite(read(diagonal_block[e.v], true), inverse)) return false;
-    const Vector6 r = rhs.segment<6>(6 * e.v);
-    solved_rhs[k] = inverse * r;
-    std::array<Block, 2> B;
-    std::array<Block, 2>& X = neighbour_products[k];
+    Block& L = factors[k];
+    if (!choleskyFactor(read(diagonal_block[e.v], true), L)) return false;
+    Vector6& z = solved_rhs[k];
+    z = rhs.segment<6>(6 * e.v);
+    solveLower(L, z);
+    std::array<Block, 2>& Y = neighbour_products[k];
     for (int n = 0; n < 2 && e.u[n] != kNone; ++n) {
-      B[n] = toNeighbour(e, n);
-      X[n] = B[n] * inverse;
-      add(e.uu[n], -(X[n] * B[n].transpose()), true);
-      rhs.segment<6>(6 * e.u[n]) -= X[n] * r;
+      // Y_n = H_{u_n v} L^-T, row by row: L y^T = (row of H_{u_n v})^T.
+      const Block B = toNeighbour(e, n);
+      for (int row = 0; row < 6; ++row) {
+        Vector6 y = B.row(row).transpose();
+        solveLower(L, y);
+        Y[n].row(row) = y.transpose();
+      }
+      add(e.uu[n], -(Y[n] * Y[n].transpose()), true);
+      rhs.segment<6>(6 * e.u[n]) -= Y[n] * z;
     }
     if (e.u01 != kNone) {
-      const Block S = X[0] * B[1].transpose();  // the update of H_{u0 u1}
+      const Block S = Y[0] * Y[1].transpose();  // the update of H_{u0 u1}
       add(e.u01, e.u[0] < e.u[1] ? Block(-S) : Block(-S.transpose()), false);
     }
   }
@@ -93,6 +98,7 @@ void SparseLevenbergMarquardt::Impl::substituteBack(Eigen::VectorXd& step) {
     Vector6 delta = solved_rhs[k];
     for (int n = 0; n < 2 && e.u[n] != kNone; ++n)
       delta -= neighbour_products[k][n].transpose() * step.segment<6>(6 * e.u[n]);
+    solveLowerTransposed(factors[k], delta);
     step.segment<6>(6 * e.v) = delta;
   }
 }

@@ -29,10 +29,13 @@ using AmbientJacobian =
 constexpr long kNone = -1;
 constexpr size_t kThreadsFrom = 4096;  // terms: fewer are linearized on one thread
 
-// The inverse of a symmetric 6x6 block D (its lower triangle read) through its Cholesky factor,
-// D = L L^T and D^-1 = L^-T L^-1, exactly symmetric; false where D is not positive definite (a
-// pivot not above zero, or not a number).
-bool inverseOfPositiveDefinite(const Block& D, Block& inverse);
+// The Cholesky factor of a symmetric 6x6 block, D = L L^T with L lower triangular (D's lower
+// triangle read, L's upper set to zero); false where D is not positive definite (a pivot not above
+// zero, or not a number).
+bool choleskyFactor(const Block& D, Block& L);
+// x <- L^-1 x and x <- L^-T x for a lower triangular L, by substitution.
+void solveLower(const Block& L, Vector6& x);
+void solveLowerTransposed(const Block& L, Vector6& x);
 
 }  // namespace sparse_lm
 
@@ -72,7 +75,9 @@ struct SparseLevenbergMarquardt::Impl {
   };
   std::vector<Elimination> eliminations;
   size_t reduced = 0;  // variables in A
-  // Per elimination, for the substitution: D_v^-1 rhs_v and H_uv D_v^-1 per neighbour u.
+  // Per elimination, for the substitution: the Cholesky factor of D_v = L_v L_v^T, L_v^-1 rhs_v,
+  // and H_uv L_v^-T per neighbour u.
+  std::vector<Block> factors;
   std::vector<Vector6> solved_rhs;
   std::vector<std::array<Block, 2>> neighbour_products;
   // Per term: its blocks (i, i), (j, j) and (min, max) of H; kNone where a pose is fixed.
@@ -165,11 +170,13 @@ struct SparseLevenbergMarquardt::Impl {
   void analyze(size_t num_poses, const std::vector<bool>& fixed);
 
   // The eliminations on the damped H and the right-hand side `rhs` (-g, per variable), in order:
-  // H_uw -= H_uv D_v^-1 H_vw and rhs_u -= H_uv D_v^-1 rhs_v for the neighbours u, w of v. False
-  // where a D_v is not positive definite.
+  // H_uw -= H_uv D_v^-1 H_vw and rhs_u -= H_uv D_v^-1 rhs_v for the neighbours u, w of v, through
+  // D_v = L_v L_v^T: H_uv D_v^-1 H_vw = Y_u Y_w^T with Y_u = H_uv L_v^-T. False where a D_v is not
+  // positive definite.
   bool eliminate(Eigen::VectorXd& rhs);
   // The eliminated variables' steps from the others', last elimination first:
-  // delta_v = D_v^-1 rhs_v - sum_u (H_uv D_v^-1)^T delta_u.
+  // delta_v = D_v^-1 rhs_v - sum_u (H_uv D_v^-1)^T delta_u = L_v^-T (L_v^-1 rhs_v - sum_u Y_u^T
+  // delta_u).
   void substituteBack(Eigen::VectorXd& step);
 
   // The residual of term k at `poses` and, if `J_i`/`J_j` are given, its tangent Jacobians.
