@@ -183,10 +183,10 @@ void SparseLevenbergMarquardt::Impl::analyze(size_t num_poses, const std::vector
     return columns;
   };
   // A as a CHOLMOD matrix (values unset, as each linearization sets them all first; only the
-  // pattern for `values` false) and, with `values`,
-  // `column` and `transposed`, the eliminated blocks' values after A's. An entry (i, j) of A's
-  // block at (R, C) is H's entry (i, j) of its block where R is that block's row variable and R !=
-  // C, else (j, i); a diagonal block keeps one triangle.
+  // pattern for `values` false) and, with `values`, `column` and `transposed`, the eliminated
+  // blocks' values after A's. An entry (i, j) of A's block at (R, C) is H's entry (i, j) of its
+  // block where R is that block's row variable and R != C, else (j, i); a diagonal block keeps one
+  // triangle.
   const auto store = [&](const std::vector<long>& position, int stype, bool values) {
     const auto columns = placeBlocks(position, stype);
     cholmod_sparse* A = cholmod_l_allocate_sparse(
