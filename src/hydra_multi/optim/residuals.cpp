@@ -162,16 +162,31 @@ void GeodesicFactor::evaluate(const Eigen::Quaterniond& q_i, const Eigen::Vector
       0.5 * hat(t_e) + dc * phi_x_phi_x_t * phi.transpose() +
       c * (phi.dot(t_e) * I + phi * t_e.transpose() - 2.0 * t_e * phi.transpose());
   const Eigen::Matrix3d dphi_dj = Jr_inv * R_j.transpose();
-  Eigen::Matrix<double, 6, 3> Sr, Sphi;  // d r / d t_E; d r / d phi, through rho and phi
-  if (sqrt_info_ != nullptr) {
-    Sr = sqrt_info_->leftCols<3>() * W;
-    Sphi = sqrt_info_->leftCols<3>() * P + sqrt_info_->rightCols<3>();
-  } else {
-    Sr.topRows<3>() = sqrt_diagonal_.head<3>().asDiagonal() * W;
-    Sr.bottomRows<3>().setZero();
-    Sphi.topRows<3>() = sqrt_diagonal_.head<3>().asDiagonal() * P;
-    Sphi.bottomRows<3>() = sqrt_diagonal_.tail<3>().asDiagonal();
+  if (sqrt_info_ == nullptr) {
+    // r's rows of rho scale W d t_E + P d phi, its rows of phi d phi alone: the translation's
+    // columns are zero there.
+    const Eigen::Matrix3d SW = sqrt_diagonal_.head<3>().asDiagonal() * W;
+    const Eigen::Matrix3d SP_dphi = sqrt_diagonal_.head<3>().asDiagonal() * P * dphi_dj;
+    const Eigen::Matrix3d Sphi_dphi = sqrt_diagonal_.tail<3>().asDiagonal() * dphi_dj;
+    const Eigen::Matrix3d SW_A = SW * A;
+    if (J_i != nullptr) {
+      J_i->topLeftCorner<3, 3>() = SW * (A * hat(d)) - SP_dphi;
+      J_i->topRightCorner<3, 3>() = -SW_A;
+      J_i->bottomLeftCorner<3, 3>() = -Sphi_dphi;
+      J_i->bottomRightCorner<3, 3>().setZero();
+    }
+    if (J_j != nullptr) {
+      J_j->topLeftCorner<3, 3>() = SP_dphi;
+      J_j->topRightCorner<3, 3>() = SW_A;
+      J_j->bottomLeftCorner<3, 3>() = Sphi_dphi;
+      J_j->bottomRightCorner<3, 3>().setZero();
+    }
+    return;
   }
+  // d r / d t_E; d r / d phi, through rho and phi.
+  const Eigen::Matrix<double, 6, 3> Sr = sqrt_info_->leftCols<3>() * W;
+  const Eigen::Matrix<double, 6, 3> Sphi =
+      sqrt_info_->leftCols<3>() * P + sqrt_info_->rightCols<3>();
   if (J_i != nullptr) {
     J_i->leftCols<3>() = Sr * (A * hat(d)) - Sphi * dphi_dj;
     J_i->rightCols<3>() = -Sr * A;
