@@ -53,6 +53,29 @@ TEST(SparseLmBlocks, APositiveDefiniteBlockIsFactoredAndSolved) {
   }
 }
 
+// B L^-T, taken column by column, is each row of B through solveLower, to the bit.
+TEST(SparseLmBlocks, ABlockOfRowsIsSolvedAsEachRowAlone) {
+  std::mt19937 rng(93);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  for (const auto& [low, high] : {std::pair{1.0, 10.0}, {1e-6, 1e4}}) {
+    const Block D = randomPositiveDefinite(rng, low, high);
+    Block L;
+    ASSERT_TRUE(sparse_lm::choleskyFactor(D, L));
+    Block B;
+    for (int c = 0; c < 6; ++c) {
+      for (int r = 0; r < 6; ++r) B(r, c) = gauss(rng);
+    }
+    Block Y = B;
+    sparse_lm::solveRightLowerTransposed(L, Y);
+    for (int row = 0; row < 6; ++row) {
+      Vector6 y = B.row(row).transpose();
+      sparse_lm::solveLower(L, y);
+      EXPECT_TRUE(Y.row(row) == y.transpose()) << row;
+    }
+    EXPECT_LT((Y * L.transpose() - B).norm(), 1e-12 * B.norm() * std::sqrt(high / low));
+  }
+}
+
 // Only the lower triangle is read: an upper triangle left unset does not change the factor.
 TEST(SparseLmBlocks, OnlyTheLowerTriangleIsRead) {
   std::mt19937 rng(92);

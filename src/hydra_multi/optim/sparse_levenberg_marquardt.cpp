@@ -61,6 +61,13 @@ void sparse_lm::solveLowerTransposed(const Block& L, Vector6& x) {
   }
 }
 
+void sparse_lm::solveRightLowerTransposed(const Block& L, Block& B) {
+  for (int j = 0; j < 6; ++j) {
+    for (int k = 0; k < j; ++k) B.col(j) -= L(j, k) * B.col(k);
+    B.col(j) /= L(j, j);
+  }
+}
+
 bool SparseLevenbergMarquardt::Impl::eliminate(Eigen::VectorXd& rhs) {
   factors.resize(eliminations.size());
   solved_rhs.resize(eliminations.size());
@@ -74,13 +81,8 @@ bool SparseLevenbergMarquardt::Impl::eliminate(Eigen::VectorXd& rhs) {
     solveLower(L, z);
     std::array<Block, 2>& Y = neighbour_products[k];
     for (int n = 0; n < 2 && e.u[n] != kNone; ++n) {
-      // Y_n = H_{u_n v} L^-T, row by row: L y^T = (row of H_{u_n v})^T.
-      const Block B = toNeighbour(e, n);
-      for (int row = 0; row < 6; ++row) {
-        Vector6 y = B.row(row).transpose();
-        solveLower(L, y);
-        Y[n].row(row) = y.transpose();
-      }
+      Y[n] = toNeighbour(e, n);  // H_{u_n v} L^-T
+      solveRightLowerTransposed(L, Y[n]);
       add(e.uu[n], -(Y[n] * Y[n].transpose()), true);
       rhs.segment<6>(6 * e.u[n]) -= Y[n] * z;
     }

@@ -36,6 +36,8 @@ bool choleskyFactor(const Block& D, Block& L);
 // x <- L^-1 x and x <- L^-T x for a lower triangular L, by substitution.
 void solveLower(const Block& L, Vector6& x);
 void solveLowerTransposed(const Block& L, Vector6& x);
+// B <- B L^-T, column by column: each row of B as solveLower would take it, to the bit.
+void solveRightLowerTransposed(const Block& L, Block& B);
 
 }  // namespace sparse_lm
 
