@@ -148,8 +148,9 @@ class LeftQuaternionTangentManifold : public ceres::Manifold {
 ///   d t_E / d_i = R_ij^T R_i^T hat(t_j - t_i),  d t_E / dt_i = -R_ij^T R_i^T = -d t_E / dt_j
 ///   d rho = W d t_E + P d phi;  r = sqrt_info e.
 /// A plain value, not a Ceres cost function: the sparse solver's problems hold one per edge in one
-/// array. A diagonal sqrt_info (the station's information, per axis) is kept as its diagonal, and
-/// multiplies as the full matrix would, to the bit; any other on the heap. Checked against
+/// array. A diagonal sqrt_info (the station's information, per axis) is kept as its diagonal: r as
+/// the full matrix would give it, to the bit, and the Jacobians from their 3x3 corners (phi's rows
+/// are zero in the translation's columns); any other on the heap. Checked against
 /// GeodesicResidual's automatic derivatives (tests/optim/test_residuals.cpp).
 class GeodesicFactor {
  public:
