@@ -20,7 +20,9 @@
 // round's three solves (in lcsol_s, gnc_s and whole_s), lm_s is the time in Levenberg-Marquardt,
 // of it fact_s in the sparse Cholesky factorizations, and anal_s the analyses of the problems'
 // patterns (orderings, symbolic factorizations) on the solving thread, one made ahead on the other
-// thread not counted; lm_it counts those solves' Levenberg-Marquardt iterations. After
+// thread not counted; lm_it counts those solves' Levenberg-Marquardt iterations; freed_mb is the
+// freed memory the allocator held after the round and back 1 where that was over the budget
+// (memory.keep_freed_mb) and handed back to the system (station/freed_memory.h). After
 // the online rounds a line sums them up: rounds scored, those with an ATE over 1 m (a robot
 // placed in the wrong room or wing) and those keeping wrong loop closures, the median and max ATE.
 //
@@ -114,8 +116,9 @@ int main(int argc, char** argv) {
     const std::vector<double> support = interRobotSupport(detector.loopClosures());
     const BackendRoundReport r =
         backend.round(processor.graph(), robots, inter, root, support, scratch);
+    FreedMemory freed;
     if (options.keep_freed_mb > 0)  // as the station does after a round
-      trimFreedMemory(options.keep_freed_mb << 20);
+      freed = trimFreedMemory(options.keep_freed_mb << 20);
     // Kept inter-robot loop closures the truth calls wrong (-1: no truth).
     long wrong = truth ? 0 : -1;
     const auto stamp = [&processor](NodeId keyframe) -> int64_t {
@@ -162,14 +165,15 @@ int main(int argc, char** argv) {
         "%7s  %3zu/%-3zu  %6zu  %5zu  %7zu  %5zu  %4zu/%-4zu  %4zu/%-4zu  %5zu/%-3zu  %5zu  %6d  "
         "%7.2f  "
         "%7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %7.2f  %6zu  %5d  %7zu  %8ld  %8ld  %7.4f  %7.2f  "
-        "%7.2f  %7.2f  %7.2f  %7.2f  %5d%s\n",
+        "%7.2f  %7.2f  %7.2f  %7.2f  %5d  %8.0f  %4d%s\n",
         name.c_str(), r.robots_aligned, r.robots, r.robots_afresh, r.variables, r.factors, r.nodes,
         r.inter_robot_inliers, r.inter_robot_loop_closures, r.merges_accepted, r.merges_proposed,
         r.verdicts_known, r.verdicts_redecided, r.merges_admitted, r.solves, r.alignment_s,
         r.build_s, r.gnc_s, r.whole_graph_s, r.graph_s, r.rooms_s, r.time_s, r.whole_graph_free,
         r.whole_graph_ahead ? 1 : 0, r.vertices_blended, wrong, across, ate, r.loop_closure_solve_s,
         r.candidates_s, r.solver_time.solve_s, r.solver_time.factorization_s,
-        r.solver_time.analysis_s, r.solver_time.iterations, apart.c_str());
+        r.solver_time.analysis_s, r.solver_time.iterations, freed.bytes / double(1 << 20),
+        freed.handed_back ? 1 : 0, apart.c_str());
     std::fflush(stdout);
     last_wrong = wrong;
     last_ate = ate;
@@ -181,7 +185,7 @@ int main(int argc, char** argv) {
       "align_s  build_s    gnc_s  whole_s  graph_s  rooms_s  total_s   moved  ahead   meshed  "
       "lc_wrong  "
       "merges_x   "
-      " ate_m  lcsol_s   cand_s     lm_s   fact_s   anal_s  lm_it\n";
+      " ate_m  lcsol_s   cand_s     lm_s   fact_s   anal_s  lm_it  freed_mb  back\n";
   if (every > 0) std::printf("%s", header);
   const auto t0 = std::chrono::steady_clock::now();
   double online_s = 0.0;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <thread>
 
 #include "hydra_multi/sim/dataset.h"
@@ -128,6 +129,36 @@ TEST(Station, InputsFromSeveralThreads) {
   EXPECT_EQ(result.aligned.size(), 2u);
   EXPECT_EQ(result.global_robot, kA);
   EXPECT_FALSE(log.empty());
+}
+
+// Each round but the last reports the freed memory the allocator held after it, handed back where
+// that was over the budget (memory.keep_freed_mb, here 1 MB); the last round, after which the
+// station hands everything back, reports none. Without jemalloc, or with MALLOC_CONF set, nothing
+// is kept, so nothing is handed back.
+TEST(Station, EachRoundReportsTheFreedMemoryKeptOrHandedBack) {
+  const DatasetStreams streams = tinyStreams(0, [](const RobotUpdate&) { return false; });
+  StationOptions options;
+  options.keep_freed_mb = 1;
+  const StationResult result = runStation(streams, options);
+  ASSERT_GE(result.rounds.size(), 2u);
+  EXPECT_EQ(result.rounds.back().freed.bytes, 0u);
+  EXPECT_FALSE(result.rounds.back().freed.handed_back);
+#ifdef HYDRA_MULTI_JEMALLOC
+  const bool kept = std::getenv("MALLOC_CONF") == nullptr;
+#else
+  const bool kept = false;
+#endif
+  size_t reported = 0, handed_back = 0;
+  for (size_t i = 0; i + 1 < result.rounds.size(); ++i) {
+    const FreedMemory& freed = result.rounds[i].freed;
+    EXPECT_EQ(freed.handed_back, kept && freed.bytes > (size_t{1} << 20)) << "round " << i;
+    reported += freed.bytes > 0;
+    handed_back += freed.handed_back;
+  }
+  if (kept) {
+    EXPECT_GT(reported, 0u);
+    EXPECT_GT(handed_back, 0u);
+  }
 }
 
 }  // namespace

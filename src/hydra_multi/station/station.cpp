@@ -191,7 +191,7 @@ void Station::Impl::runRound(const Snapshot& s) {
   if (options.keep_freed_mb > 0 && s.last) {
     handBackFreedMemory();  // no round follows
   } else if (options.keep_freed_mb > 0) {
-    trimFreedMemory(options.keep_freed_mb << 20);
+    timing.freed = trimFreedMemory(options.keep_freed_mb << 20);
   }
   result.rounds.push_back(timing);
   if (options.on_round) {

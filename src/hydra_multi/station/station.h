@@ -25,6 +25,7 @@
 #include "hydra_multi/backend/backend.h"
 #include "hydra_multi/frontend/loop_closure_detector.h"
 #include "hydra_multi/station/dataset_replay.h"
+#include "hydra_multi/station/freed_memory.h"
 
 namespace hydra_multi {
 
@@ -84,6 +85,7 @@ struct RoundTiming {
   size_t round = 0;
   size_t after_update = 0;  ///< updates processed when the round's snapshot was taken
   BackendRoundReport report;
+  FreedMemory freed;  ///< after the round: what the allocator held freed, and if handed back
 };
 
 struct StationResult {
