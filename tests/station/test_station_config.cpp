@@ -22,7 +22,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_DOUBLE_EQ(options.backend.readmit_unsolved_share, 0.01);
   EXPECT_TRUE(options.backend.deformation.solver.keep_converged_gnc_solve);
   EXPECT_TRUE(options.backend.readmit_unsolved_with_merges);
-  EXPECT_EQ(options.keep_freed_mb, 1024u);
+  EXPECT_EQ(options.keep_freed_mb, 3072u);
   const Status s = applyStationConfig(R"({
       "loop_closures": {"object_ambiguity_ratio": 0, "object_rival_distance": 2.5,
                         "anchor_objects": false},

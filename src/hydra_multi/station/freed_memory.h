@@ -7,7 +7,7 @@
 // handBackFreedMemory, after the last round, restores jemalloc's decay. All leave the allocator as
 // it is when the MALLOC_CONF environment variable is set (the user's choice) or the executables
 // are built without jemalloc (HYDRA_MULTI_JEMALLOC off, the sanitizers). docs/DECISIONS.md: "Freed
-// memory kept between rounds, up to 1 GB".
+// memory kept between rounds, up to 3 GB".
 
 #include <cstddef>
 

@@ -58,7 +58,7 @@ struct StationOptions {
   size_t expected_robots = 0;
   /// Freed memory kept for the next backend round, up to this many MB, then all handed back
   /// (freed_memory.h); 0: the allocator's default (freed pages handed back within about 10 s).
-  size_t keep_freed_mb = 1024;
+  size_t keep_freed_mb = 3072;
   ProcessorOptions processor;
   LoopClosureOptions detector;
   BackendOptions backend;
