@@ -250,6 +250,13 @@ TEST(DeformationGraph, AWarmStartedRoundSolvesTheWholeGraphOnlyWhereItChanged) {
   for (const auto& [id, pose] : whole.poses)
     apart = std::max(apart, (local.poses.at(id).translation() - pose.translation()).norm());
   EXPECT_LT(apart, 0.01);
+  // The analysis made ahead for a whole-graph solve changes nothing in a local one.
+  DeformationGraphOptions unaided = options;
+  unaided.whole_graph_analysis_ahead = false;
+  const DeformationResult alone = optimizeDeformationGraph(graph, unaided, {}, &warm);
+  ASSERT_EQ(alone.poses.size(), local.poses.size());
+  for (const auto& [id, pose] : alone.poses)
+    EXPECT_TRUE(local.poses.at(id).matrix() == pose.matrix()) << id.str();
   // More changed than local_max_share allows: the whole graph, as without the option.
   DeformationGraphOptions narrow = options;
   narrow.local_max_share =

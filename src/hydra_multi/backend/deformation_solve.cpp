@@ -232,33 +232,38 @@ DeformationResult optimizeDeformationGraph(
   result.solve = optimizePoseGraph(robust, initial_poses, graph.anchor, solver);
   result.solver_time = result.solve.solver_time;
   if (analyzing.valid()) analyzing.wait();
-  result.poses = result.solve.poses;
   for (size_t i = 0; i < robust.edges.size(); ++i) {
     const PoseGraphEdge& e = robust.edges[i];
     if (e.kind == PoseGraphEdge::Kind::kLoopClosure && i < result.solve.edge_inlier.size())
       result.robust_inlier[{e.from, e.to}] = result.solve.edge_inlier[i];
   }
   if (decided) decided(result.robust_inlier);
-  if (!options.two_stage) return result;
+  if (!options.two_stage) {
+    result.poses = result.solve.poses;
+    return result;
+  }
 
   // The whole graph with the robust factors GNC kept, from the skeleton's solution: control
   // points start where the keyframe that observed them moved them.
   const auto whole_start = std::chrono::steady_clock::now();
-  std::map<NodeId, Eigen::Isometry3d> initial = result.poses;
+  std::map<NodeId, Eigen::Isometry3d> initial = result.solve.poses;
   AscendingLookup observed_by(graph.observed_by);
   auto next = initial.begin();  // walked with graph.initial, both in id order
   for (const auto& [id, pose] : graph.initial) {
     while (next != initial.end() && next->first < id) ++next;
     if (next != initial.end() && next->first == id) continue;
     const NodeId* keyframe = observed_by.find(id);
-    const auto moved = keyframe == nullptr ? result.poses.end() : result.poses.find(*keyframe);
+    const auto moved =
+        keyframe == nullptr ? result.solve.poses.end() : result.solve.poses.find(*keyframe);
     initial.emplace_hint(next, id,
-                         moved == result.poses.end()
+                         moved == result.solve.poses.end()
                              ? pose
                              : moved->second * graph.initial.at(*keyframe).inverse() * pose);
   }
-  result.poses = initial;
-  if (options.final_iterations == 0) return result;
+  if (options.final_iterations == 0) {
+    result.poses = std::move(initial);
+    return result;
+  }
   const PoseGraph& whole = graph.graph;
   const std::vector<bool> left_out = leftOut(graph, result.robust_inlier);
   if (warm != nullptr) {
@@ -288,14 +293,13 @@ DeformationResult optimizeDeformationGraph(
     const bool prepared = ahead != nullptr && ahead->holds();
     plain.solver.analyses = ahead;
     plain.held_out = left_out;
-    const RobustPgoResult solved = optimizePoseGraph(whole, initial, graph.anchor, plain);
+    RobustPgoResult solved = optimizePoseGraph(whole, initial, graph.anchor, plain);
     result.solver_time += solved.solver_time;
     result.whole_graph_analyzed_ahead = prepared && !ahead->holds();
-    if (solved.usable) result.poses = solved.poses;
     result.whole_graph_free = initial.size();
+    result.poses = solved.usable ? std::move(solved.poses) : std::move(initial);
   } else {
     // The factors of the changed nodes, the others they reach held where they are.
-    result.poses = initial;
     PoseGraph local;
     std::map<NodeId, Eigen::Isometry3d> local_initial;
     for (size_t k = 0; k < whole.edges.size(); ++k) {
@@ -307,6 +311,7 @@ DeformationResult optimizeDeformationGraph(
         if (!changed->count(id)) plain.constant.insert(id);
       }
     }
+    result.poses = std::move(initial);
     if (!local.edges.empty()) {
       const RobustPgoResult solved = optimizePoseGraph(local, local_initial, graph.anchor, plain);
       result.solver_time += solved.solver_time;
