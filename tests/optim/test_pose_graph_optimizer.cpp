@@ -446,9 +446,10 @@ TEST(PoseGraphOptimizer, LinearizationThreadsTakeTheStepsOfOneThreadToTheBit) {
   threadsTakeTheStepsOfOne(chainedGrid(rng, 8, 2, 20, 0.01));
 }
 
-// An analysis made ahead on another thread (PoseGraphOptimizerOptions::analyses, keep_analysis) is
-// taken by a later problem of its pattern alone, which then takes the steps of a problem that
-// analyzes its own, to the bit; problems with another term or other fixed poses leave it.
+// An analysis made ahead on another thread (PoseGraphOptimizerOptions::analyses, keep_analysis),
+// its supernodal factor's values allocated there, is taken by a later problem of its pattern
+// alone, which then takes the steps of a problem that analyzes its own, to the bit; problems with
+// another term or other fixed poses leave it, its factor's values freed.
 TEST(PoseGraphOptimizer, AnAnalysisMadeAheadIsTakenByItsPatternAlone) {
   const PoseGraph g = sphere2500();
   ASSERT_FALSE(g.poses.empty());
@@ -464,6 +465,7 @@ TEST(PoseGraphOptimizer, AnAnalysisMadeAheadIsTakenByItsPatternAlone) {
     PoseGraphProblem(g, g.poses, anchor, prepare).solve();
   }).join();
   ASSERT_TRUE(analyses->holds());
+  EXPECT_GT(analyses->heldFactorValues(), 0u);
   PoseGraphOptimizerOptions take = own;
   take.analyses = analyses;
 
@@ -471,6 +473,7 @@ TEST(PoseGraphOptimizer, AnAnalysisMadeAheadIsTakenByItsPatternAlone) {
   moved.edges.back().to = std::next(g.poses.begin(), 3)->first;
   PoseGraphProblem(moved, moved.poses, anchor, take).solve();
   EXPECT_TRUE(analyses->holds());
+  EXPECT_EQ(analyses->heldFactorValues(), 0u);
   PoseGraphProblem held(g, g.poses, anchor, take);
   held.holdConstant({std::next(g.poses.begin(), 5)->first});
   held.solve();

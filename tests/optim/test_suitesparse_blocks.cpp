@@ -83,5 +83,30 @@ TEST(SuiteSparseBlocks, KeepsAtMostTheCapOldestFreedFirst) {
   release(blocks[3]);
 }
 
+// keptForReuse says which blocks a free keeps: from kMinKeptBlockBytes up to the largest whose
+// quarter more room fits the cap (the blocks are allocated, never touched).
+TEST(SuiteSparseBlocks, KeptForReuseSaysWhichBlocksAFreeKeeps) {
+  keepSuiteSparseBlocks();
+  EXPECT_FALSE(keptForReuse(kMinKeptBlockBytes - 1));
+  EXPECT_TRUE(keptForReuse(kMinKeptBlockBytes));
+  const size_t largest = kMaxKeptBytes / 5 * 4;
+  EXPECT_TRUE(keptForReuse(largest));
+  EXPECT_FALSE(keptForReuse(largest + 8));
+
+  const KeptBlocks before = keptSuiteSparseBlocks();
+  void* too_large = allocate(largest + 8);
+  ASSERT_NE(too_large, nullptr);
+  release(too_large);
+  EXPECT_EQ(keptSuiteSparseBlocks().blocks, before.blocks);  // back to malloc
+  EXPECT_EQ(keptSuiteSparseBlocks().bytes, before.bytes);
+
+  void* kept = allocate(largest);
+  ASSERT_NE(kept, nullptr);
+  release(kept);
+  EXPECT_EQ(keptSuiteSparseBlocks().bytes, largest + largest / 4);  // kept, the others evicted
+  EXPECT_EQ(allocate(largest), kept);
+  release(kept);
+}
+
 }  // namespace
 }  // namespace hydra_multi

@@ -299,6 +299,7 @@ DeformationResult optimizeDeformationGraph(
     result.whole_graph_free = initial.size();
     result.poses = solved.usable ? std::move(solved.poses) : std::move(initial);
   } else {
+    ahead.reset();  // unused: its factor's block goes back for the local solve's
     // The factors of the changed nodes, the others they reach held where they are.
     PoseGraph local;
     std::map<NodeId, Eigen::Isometry3d> local_initial;

@@ -129,6 +129,7 @@ SparseLevenbergMarquardt::~SparseLevenbergMarquardt() {
   SparseAnalyses* keep_in = impl_->keep_in;
   if (keep_in != nullptr && impl_->L != nullptr && impl_->H != nullptr) {
     impl_->keep_in = nullptr;
+    impl_->allocateFactor();
     keep_in->keep(std::move(impl_));
   }
 }
@@ -144,6 +145,12 @@ bool SparseAnalyses::holds() const {
   return kept_ != nullptr;
 }
 
+size_t SparseAnalyses::heldFactorValues() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (kept_ == nullptr || kept_->L == nullptr || kept_->L->xtype == CHOLMOD_PATTERN) return 0;
+  return kept_->L->xsize;
+}
+
 void SparseAnalyses::keep(std::unique_ptr<SparseLevenbergMarquardt::Impl> analysis) {
   const std::lock_guard<std::mutex> lock(mutex_);
   kept_ = std::move(analysis);
@@ -152,17 +159,17 @@ void SparseAnalyses::keep(std::unique_ptr<SparseLevenbergMarquardt::Impl> analys
 std::unique_ptr<SparseLevenbergMarquardt::Impl> SparseAnalyses::take(
     size_t num_poses, const std::vector<LmTerm>& terms, const std::vector<bool>& fixed) {
   const std::lock_guard<std::mutex> lock(mutex_);
-  if (kept_ == nullptr || kept_->variable.size() != num_poses ||
-      kept_->terms.size() != terms.size())
-    return nullptr;
-  for (size_t p = 0; p < num_poses; ++p) {
+  if (kept_ == nullptr) return nullptr;
+  bool same = kept_->variable.size() == num_poses && kept_->terms.size() == terms.size();
+  for (size_t p = 0; same && p < num_poses; ++p) {
     const bool held = p < fixed.size() && fixed[p];
-    if (held != (kept_->variable[p] == kNone)) return nullptr;
+    same = held == (kept_->variable[p] == kNone);
   }
-  for (size_t k = 0; k < terms.size(); ++k) {
-    if (kept_->terms[k].i != terms[k].i || kept_->terms[k].j != terms[k].j) return nullptr;
-  }
-  return std::move(kept_);
+  for (size_t k = 0; same && k < terms.size(); ++k)
+    same = kept_->terms[k].i == terms[k].i && kept_->terms[k].j == terms[k].j;
+  if (same) return std::move(kept_);
+  kept_->freeFactorValues();  // the block goes back for this problem's own factor
+  return nullptr;
 }
 
 LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,

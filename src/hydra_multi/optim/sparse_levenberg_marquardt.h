@@ -102,7 +102,8 @@ class SparseLevenbergMarquardt {
 /// its pattern (the number of poses, the terms' poses in order, the fixed poses), its ordering
 /// and symbolic factorization. It holds the last analysis left to it; a problem with that
 /// pattern takes it (the analysis is a function of the pattern alone, so the solve is the same
-/// to the bit), any other leaves it. Thread-safe.
+/// to the bit), any other leaves it, less its factor's values (heldFactorValues), which go back
+/// for that problem's own. Thread-safe.
 class SparseAnalyses {
  public:
   SparseAnalyses();
@@ -111,6 +112,11 @@ class SparseAnalyses {
   SparseAnalyses& operator=(const SparseAnalyses&) = delete;
   /// Whether an analysis is held.
   bool holds() const;
+  /// How many numeric values of its factor the held analysis has allocated and written, on the
+  /// thread that made it: a supernodal factor's all where its block is kept for reuse
+  /// (keptForReuse), until a problem of another pattern frees them; else 0, and the first
+  /// factorization makes them.
+  size_t heldFactorValues() const;
 
  private:
   friend class SparseLevenbergMarquardt;

@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <optional>
 
 #include "hydra_multi/optim/fill_reducing_ordering.h"
+#include "hydra_multi/optim/serial_openmp.h"
 #include "hydra_multi/optim/sparse_lm_impl.h"
 #include "hydra_multi/optim/suitesparse_blocks.h"
 
@@ -265,6 +267,23 @@ void SparseLevenbergMarquardt::Impl::analyze(size_t num_poses, const std::vector
     cholmod_l_free_sparse(&m.H, &m.common);
     m.H = store(position, 1, true);
   }
+}
+
+void SparseLevenbergMarquardt::Impl::allocateFactor() {
+  if (L == nullptr || !L->is_super || L->xtype != CHOLMOD_PATTERN) return;
+  // A block not kept for reuse is freed at once, and its pages come from the allocating thread's
+  // arena: faulted in here, they would be faulted in again by the solve's own.
+  if (!keptForReuse(L->xsize * sizeof(double))) return;
+  const SerialOpenMp serial;
+  // The numeric supernodal LL' factor cholmod_l_factorize would make of it on its first call.
+  if (!cholmod_l_change_factor(CHOLMOD_REAL, true, true, true, true, L, &common) || L->x == nullptr)
+    return;
+  std::memset(L->x, 0, L->xsize * sizeof(double));
+}
+
+void SparseLevenbergMarquardt::Impl::freeFactorValues() {
+  if (L == nullptr || !L->is_super || L->xtype == CHOLMOD_PATTERN) return;
+  cholmod_l_change_factor(CHOLMOD_PATTERN, true, true, true, true, L, &common);
 }
 
 }  // namespace hydra_multi

@@ -170,6 +170,13 @@ struct SparseLevenbergMarquardt::Impl {
   // chains and leaves, A's blocks in a fill-reducing order, CHOLMOD's symbolic factorization (L
   // null where any of it failed; solve() reports it). Once, at construction.
   void analyze(size_t num_poses, const std::vector<bool>& fixed);
+  // L's numeric values allocated and written once, so that their pages are faulted in on the
+  // calling thread: an analysis made ahead does it before it is kept, and the solve's first
+  // factorization then only fills L. Only a supernodal L whose block the SuiteSparse keeper keeps
+  // for reuse (keptForReuse); nothing where the analysis failed or L has its values.
+  void allocateFactor();
+  // L's numeric values freed, its symbolic factorization kept (a supernodal L that has them).
+  void freeFactorValues();
 
   // The eliminations on the damped H and the right-hand side `rhs` (-g, per variable), in order:
   // H_uw -= H_uv D_v^-1 H_vw and rhs_u -= H_uv D_v^-1 rhs_v for the neighbours u, w of v, through

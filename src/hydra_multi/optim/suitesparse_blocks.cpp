@@ -139,6 +139,10 @@ void keepSuiteSparseBlocks() {
   });
 }
 
+bool keptForReuse(size_t bytes) {
+  return bytes >= kMinKeptBlockBytes && bytes + bytes / 4 <= kMaxKeptBytes;
+}
+
 KeptBlocks keptSuiteSparseBlocks() { return keeper().state(); }
 
 }  // namespace hydra_multi

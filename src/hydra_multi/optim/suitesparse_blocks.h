@@ -22,6 +22,11 @@ constexpr size_t kMaxKeptBytes = size_t{1} << 30;
 /// Idempotent; call before SuiteSparse allocates.
 void keepSuiteSparseBlocks();
 
+/// Whether a block of `bytes` is one the installed keeper hands on to the next allocation it fits
+/// when freed, whichever thread allocated it (at least kMinKeptBlockBytes, its capacity within
+/// kMaxKeptBytes).
+bool keptForReuse(size_t bytes);
+
 /// What the kept blocks hold now, and how many allocations they served (for tests and benchmarks).
 struct KeptBlocks {
   size_t blocks = 0, bytes = 0, reused = 0;
