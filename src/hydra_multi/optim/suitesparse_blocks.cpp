@@ -13,6 +13,10 @@
 namespace hydra_multi {
 namespace {
 
+// A new block's capacity: a quarter more room than asked, as the next problem's factor is a little
+// larger than this one's (pages of the room are never touched unless used).
+size_t withRoom(size_t bytes) { return bytes + bytes / 4; }
+
 struct Kept {
   void* block;
   size_t capacity;
@@ -42,9 +46,7 @@ class BlockKeeper {
       }
     }
     if (bytes < kMinKeptBlockBytes) return zero ? std::calloc(bytes, 1) : std::malloc(bytes);
-    // Room to grow: the next problem's factor is a little larger than this one's. Pages of the
-    // room are never touched unless used.
-    const size_t capacity = bytes + bytes / 4;
+    const size_t capacity = withRoom(bytes);
     void* block = zero ? std::calloc(capacity, 1) : std::malloc(capacity);
     if (block != nullptr) {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -140,7 +142,7 @@ void keepSuiteSparseBlocks() {
 }
 
 bool keptForReuse(size_t bytes) {
-  return bytes >= kMinKeptBlockBytes && bytes + bytes / 4 <= kMaxKeptBytes;
+  return bytes >= kMinKeptBlockBytes && withRoom(bytes) <= kMaxKeptBytes;
 }
 
 KeptBlocks keptSuiteSparseBlocks() { return keeper().state(); }
