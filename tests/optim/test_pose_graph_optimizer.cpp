@@ -492,5 +492,42 @@ TEST(PoseGraphOptimizer, AnAnalysisMadeAheadIsTakenByItsPatternAlone) {
     ASSERT_TRUE(T.matrix() == taken_poses.at(id).matrix()) << id.str();
 }
 
+TEST(PoseGraphOptimizer, ADroppedAnalysisIsNeitherKeptNorMadeAgain) {
+  const PoseGraph g = sphere2500();
+  ASSERT_FALSE(g.poses.empty());
+  const NodeId anchor = g.poses.begin()->first;
+  PoseGraphOptimizerOptions own;
+  own.max_iterations = 3;
+  const auto analyses = std::make_shared<SparseAnalyses>();
+  PoseGraphOptimizerOptions prepare = own;
+  prepare.max_iterations = 0;
+  prepare.analyses = analyses;
+  prepare.keep_analysis = true;
+  PoseGraphProblem(g, g.poses, anchor, prepare).solve();
+  ASSERT_TRUE(analyses->holds());
+  EXPECT_FALSE(analyses->dropped());
+
+  analyses->drop();
+  EXPECT_TRUE(analyses->dropped());
+  EXPECT_FALSE(analyses->holds());
+  EXPECT_EQ(analyses->heldFactorValues(), 0u);
+  // One prepared after the drop stops before its ordering: nothing to keep.
+  const SolveSummary prepared = PoseGraphProblem(g, g.poses, anchor, prepare).solve();
+  EXPECT_FALSE(prepared.usable);
+  EXPECT_FALSE(analyses->holds());
+
+  PoseGraphOptimizerOptions take = own;
+  take.analyses = analyses;
+  PoseGraphProblem taking(g, g.poses, anchor, take);
+  const SolveSummary taken = taking.solve();
+  PoseGraphProblem analyzing(g, g.poses, anchor, own);
+  const SolveSummary analyzed = analyzing.solve();
+  EXPECT_TRUE(taken.usable) << taken.message;
+  EXPECT_EQ(taken.final_cost, analyzed.final_cost);
+  const auto taken_poses = taking.poses(), analyzed_poses = analyzing.poses();
+  for (const auto& [id, T] : analyzed_poses)
+    ASSERT_TRUE(T.matrix() == taken_poses.at(id).matrix()) << id.str();
+}
+
 }  // namespace
 }  // namespace hydra_multi

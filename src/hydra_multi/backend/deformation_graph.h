@@ -96,7 +96,8 @@ struct DeformationGraphOptions {
   /// thread while GNC solves the skeleton, for the factors GNC is expected to keep (every robust
   /// factor it starts with, and the merges it holds out, which it takes back where they fit; not
   /// the loop closures it holds out); the solve takes it where GNC kept just those, and analyzes
-  /// its own otherwise. The same solve either way, to the bit.
+  /// its own otherwise. The same solve either way, to the bit. A local solve (local_whole_graph)
+  /// does not wait for it: it stops at its next step.
   bool whole_graph_analysis_ahead = true;
   /// The station's control points: of each robot's, the first in each voxel of this size (m; in
   /// the robot's frame), with the rigidity edges of the others carried over to them

@@ -122,6 +122,7 @@ void analyzeWholeGraphAhead(const DeformationGraph& graph, const PoseGraph& robu
                             const std::vector<bool>& held_out,
                             const DeformationGraphOptions& options,
                             const std::shared_ptr<SparseAnalyses>& ahead) {
+  if (ahead->dropped()) return;
   std::map<std::pair<NodeId, NodeId>, bool> expected;
   for (size_t k = 0; k < robust.edges.size(); ++k) {
     const PoseGraphEdge& e = robust.edges[k];
@@ -217,12 +218,12 @@ DeformationResult optimizeDeformationGraph(
     expected(kept);
   }
   // The whole-graph solve's analysis on a second thread while GNC runs (a failure there leaves
-  // the solve to analyze its own).
+  // the solve to analyze its own); dropped where the solve turns out local.
   std::shared_ptr<SparseAnalyses> ahead;
   std::future<void> analyzing;
   if (options.two_stage && options.final_iterations > 0 && options.whole_graph_analysis_ahead) {
     ahead = std::make_shared<SparseAnalyses>();
-    analyzing = std::async(std::launch::async, [&graph, &robust, &solver, &options, &ahead] {
+    analyzing = std::async(std::launch::async, [&graph, &robust, &solver, &options, ahead] {
       try {
         analyzeWholeGraphAhead(graph, robust, solver.held_out, options, ahead);
       } catch (const std::exception&) {
@@ -231,7 +232,6 @@ DeformationResult optimizeDeformationGraph(
   }
   result.solve = optimizePoseGraph(robust, initial_poses, graph.anchor, solver);
   result.solver_time = result.solve.solver_time;
-  if (analyzing.valid()) analyzing.wait();
   for (size_t i = 0; i < robust.edges.size(); ++i) {
     const PoseGraphEdge& e = robust.edges[i];
     if (e.kind == PoseGraphEdge::Kind::kLoopClosure && i < result.solve.edge_inlier.size())
@@ -290,6 +290,7 @@ DeformationResult optimizeDeformationGraph(
           ? changedNodes(whole, left_out, initial, *warm, unsolved, options)
           : std::nullopt;
   if (!changed || changed->size() > options.local_max_share * initial.size()) {
+    if (analyzing.valid()) analyzing.wait();
     const bool prepared = ahead != nullptr && ahead->holds();
     plain.solver.analyses = ahead;
     plain.held_out = left_out;
@@ -299,7 +300,8 @@ DeformationResult optimizeDeformationGraph(
     result.whole_graph_free = initial.size();
     result.poses = solved.usable ? std::move(solved.poses) : std::move(initial);
   } else {
-    ahead.reset();  // unused: its factor's block goes back for the local solve's
+    // Unused: it stops where it is, and its factor's block goes back for the local solve's.
+    if (ahead != nullptr) ahead->drop();
     // The factors of the changed nodes, the others they reach held where they are.
     PoseGraph local;
     std::map<NodeId, Eigen::Isometry3d> local_initial;

@@ -121,13 +121,13 @@ SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector
   m.rotation = &rotation;
   m.terms = std::move(terms);
   m.keep_in = keep ? analyses : nullptr;
-  if (ahead) return;
+  if (ahead || (m.keep_in != nullptr && m.keep_in->dropped())) return;  // dropped: no analysis
   m.analyze(num_poses, fixed);
 }
 
 SparseLevenbergMarquardt::~SparseLevenbergMarquardt() {
   SparseAnalyses* keep_in = impl_->keep_in;
-  if (keep_in != nullptr && impl_->L != nullptr && impl_->H != nullptr) {
+  if (keep_in != nullptr && !keep_in->dropped() && impl_->L != nullptr && impl_->H != nullptr) {
     impl_->keep_in = nullptr;
     impl_->allocateFactor();
     keep_in->keep(std::move(impl_));
@@ -151,9 +151,30 @@ size_t SparseAnalyses::heldFactorValues() const {
   return kept_->L->xsize;
 }
 
-void SparseAnalyses::keep(std::unique_ptr<SparseLevenbergMarquardt::Impl> analysis) {
+void SparseAnalyses::drop() {
+  std::unique_ptr<SparseLevenbergMarquardt::Impl> held;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    dropped_ = true;
+    held = std::move(kept_);
+  }
+}
+
+bool SparseAnalyses::dropped() const {
   const std::lock_guard<std::mutex> lock(mutex_);
-  kept_ = std::move(analysis);
+  return dropped_;
+}
+
+void SparseAnalyses::keep(std::unique_ptr<SparseLevenbergMarquardt::Impl> analysis) {
+  std::unique_ptr<SparseLevenbergMarquardt::Impl> unkept;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (dropped_) {
+      unkept = std::move(analysis);
+    } else {
+      kept_ = std::move(analysis);
+    }
+  }
 }
 
 std::unique_ptr<SparseLevenbergMarquardt::Impl> SparseAnalyses::take(

@@ -103,7 +103,7 @@ class SparseLevenbergMarquardt {
 /// and symbolic factorization. It holds the last analysis left to it; a problem with that
 /// pattern takes it (the analysis is a function of the pattern alone, so the solve is the same
 /// to the bit), any other leaves it, less its factor's values (heldFactorValues), which go back
-/// for that problem's own. Thread-safe.
+/// for that problem's own. Once dropped it holds nothing again. Thread-safe.
 class SparseAnalyses {
  public:
   SparseAnalyses();
@@ -117,6 +117,10 @@ class SparseAnalyses {
   /// (keptForReuse), until a problem of another pattern frees them; else 0, and the first
   /// factorization makes them.
   size_t heldFactorValues() const;
+  /// No problem will take an analysis from here: what is held is freed, and one being made
+  /// stops at its next step (before its ordering, before its factor's values) and is not kept.
+  void drop();
+  bool dropped() const;
 
  private:
   friend class SparseLevenbergMarquardt;
@@ -126,6 +130,7 @@ class SparseAnalyses {
                                                        const std::vector<bool>& fixed);
   mutable std::mutex mutex_;
   std::unique_ptr<SparseLevenbergMarquardt::Impl> kept_;
+  bool dropped_ = false;
 };
 
 }  // namespace hydra_multi
