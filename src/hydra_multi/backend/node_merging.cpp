@@ -84,6 +84,7 @@ MergePlan planMerges(SceneGraph& graph, const SceneGraph& frontend,
     return plan;
   }
   plan.made = true;
+  plan.outcome.merges.reserve(n_kept);
   MergeSides side(frontend, meshes, window_s);
   for (size_t i = 0; i < candidates.size(); ++i) {
     const MergeCandidate& c = candidates[i];
