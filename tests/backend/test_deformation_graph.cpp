@@ -173,7 +173,7 @@ TEST(DeformationGraph, TheWholeGraphAnalysisMadeAheadIsTakenWhereGncKeptWhatItEx
       twoRobots(a, b, a.truth.front().inverse() * b.truth.front());
   DeformationGraphOptions ahead, own;
   ahead.use_sent_information = own.use_sent_information = true;
-  own.whole_graph_analysis_ahead = false;
+  ahead.whole_graph_analysis_ahead = true;
   const auto solve = [&](size_t closures, const std::set<std::pair<NodeId, NodeId>>& held_out,
                          bool expect_ahead, const char* what) {
     const std::vector<PoseGraphEdge> these(inter.begin(), inter.begin() + closures);
@@ -230,6 +230,7 @@ TEST(DeformationGraph, AWarmStartedRoundSolvesTheWholeGraphOnlyWhereItChanged) {
   }
   const auto inputs = [&](const Robot& robot_b) { return twoRobots(a, robot_b, T_global_b); };
   DeformationGraphOptions options;
+  options.whole_graph_analysis_ahead = true;
   const DeformationResult then = optimizeDeformationGraph(
       buildDeformationGraph(earlier, inputs(b_then), inter_then, {}, options), options);
   DeformationWarmStart warm;
@@ -416,6 +417,7 @@ TEST(DeformationGraph, NewMergesThatFitTheStartAreKnown) {
 TEST(DeformationGraph, TheWholeGraphAnalysisMadeAheadCountsHeldOutMergesIn) {
   for (const bool wrong : {false, true}) {
     DeformationGraphOptions ahead;
+    ahead.whole_graph_analysis_ahead = true;
     const auto s = objectsToMerge(ahead, wrong);
     const DeformationGraph graph =
         buildDeformationGraph(s->frontend, s->inputs(), s->inter, s->merges, ahead);

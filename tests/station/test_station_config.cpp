@@ -18,7 +18,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_EQ(options.backend.reconciliation.icp_threads, 2);
   EXPECT_DOUBLE_EQ(options.backend.reconciliation.icp_reuse_m, 0.01);
   EXPECT_DOUBLE_EQ(options.backend.reconciliation.icp_reuse_rad, 0.01);
-  EXPECT_TRUE(options.backend.deformation.whole_graph_analysis_ahead);
+  EXPECT_FALSE(options.backend.deformation.whole_graph_analysis_ahead);
   EXPECT_DOUBLE_EQ(options.backend.readmit_unsolved_share, 0.01);
   EXPECT_TRUE(options.backend.deformation.solver.keep_converged_gnc_solve);
   EXPECT_TRUE(options.backend.readmit_unsolved_with_merges);
@@ -32,7 +32,7 @@ TEST(StationConfig, KeysSetOptions) {
                       "gnc_mu_step": 2.0, "gnc_incremental_mu_step": 1, "link_max_dt_s": 0,
                       "odometry_rotation_variance": 0.01, "reduce_chains": true,
                       "chain_min_share": 0.5, "linearization_threads": 1,
-                      "whole_graph_analysis_ahead": false, "readmit_unsolved_share": 0,
+                      "whole_graph_analysis_ahead": true, "readmit_unsolved_share": 0,
                       "keep_converged_gnc_solve": false, "readmit_unsolved_with_merges": false},
       "reconciliation": {"enabled": false, "admit_fitting_merges": false,
                          "merge_while_solving": false, "plan_merges_ahead": false,
@@ -64,7 +64,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_TRUE(options.backend.deformation.solver.reduce_chains);
   EXPECT_DOUBLE_EQ(options.backend.deformation.solver.chain_min_share, 0.5);
   EXPECT_EQ(options.backend.deformation.solver.solver.linearization_threads, 1);
-  EXPECT_FALSE(options.backend.deformation.whole_graph_analysis_ahead);
+  EXPECT_TRUE(options.backend.deformation.whole_graph_analysis_ahead);
   EXPECT_DOUBLE_EQ(options.backend.readmit_unsolved_share, 0.0);
   EXPECT_FALSE(options.backend.deformation.solver.keep_converged_gnc_solve);
   EXPECT_FALSE(options.backend.readmit_unsolved_with_merges);

@@ -97,8 +97,9 @@ struct DeformationGraphOptions {
   /// factor it starts with, and the merges it holds out, which it takes back where they fit; not
   /// the loop closures it holds out); the solve takes it where GNC kept just those, and analyzes
   /// its own otherwise. The same solve either way, to the bit. A local solve (local_whole_graph)
-  /// does not wait for it: it stops at its next step.
-  bool whole_graph_analysis_ahead = true;
+  /// does not wait for it: it stops at its next step. Off by default: beside the station's
+  /// frontend the second thread slowed more than it saved (docs/DECISIONS.md).
+  bool whole_graph_analysis_ahead = false;
   /// The station's control points: of each robot's, the first in each voxel of this size (m; in
   /// the robot's frame), with the rigidity edges of the others carried over to them
   /// (coarserControlPoints); <= 0: every control point the robots send (Hydra's: one per 2.5 m
