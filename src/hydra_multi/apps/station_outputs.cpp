@@ -22,12 +22,12 @@ Status writeStationOutputs(const std::string& dir, const StationResult& result) 
   timing << "kind,index,robot,sequence,robot_time_s,ms,handoff_ms,loop_closures,nodes,poses,"
             "factors,alignment_ms,build_ms,gnc_ms,whole_graph_ms,graph_ms,rooms_ms,from_scratch,"
             "queue_ms,robots_afresh,solve_ms,factorization_ms,analysis_ms,lm_iterations,freed_mb,"
-            "freed_handed_back\n";
+            "freed_handed_back,loop_closure_solve_ms,candidates_ms\n";
   for (size_t i = 0; i < result.updates.size(); ++i) {
     const UpdateTiming& u = result.updates[i];
     timing << "update," << i << "," << u.robot.str() << "," << u.sequence << "," << u.time_ns * 1e-9
            << "," << u.frontend_ms << "," << u.handoff_ms << "," << u.loop_closures << ",,,,,,,,,,,"
-           << u.queue_ms << ",,,,,,,\n";
+           << u.queue_ms << ",,,,,,,,,\n";
   }
   for (const RoundTiming& r : result.rounds) {
     const BackendRoundReport& b = r.report;
@@ -38,7 +38,8 @@ Status writeStationOutputs(const std::string& dir, const StationResult& result) 
            << (b.from_scratch ? 1 : 0) << ",," << b.robots_afresh << ","
            << b.solver_time.solve_s * 1e3 << "," << b.solver_time.factorization_s * 1e3 << ","
            << b.solver_time.analysis_s * 1e3 << "," << b.solver_time.iterations << ","
-           << r.freed.bytes / double(1 << 20) << "," << (r.freed.handed_back ? 1 : 0) << "\n";
+           << r.freed.bytes / double(1 << 20) << "," << (r.freed.handed_back ? 1 : 0) << ","
+           << b.loop_closure_solve_s * 1e3 << "," << b.candidates_s * 1e3 << "\n";
   }
   if (!timing) return Error{"cannot write " + (out / "timing.csv").string()};
   return Status::Ok();
