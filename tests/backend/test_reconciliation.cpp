@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <random>
 #include <set>
+#include <tuple>
 
 #include "hydra_multi/backend/reconciliation.h"
 #include "support/object_shapes.h"
@@ -87,6 +90,97 @@ TEST(Reconciliation, ThreeRobotsCopiesMergeIntoOne) {
       {NodeId::station('p', kA, 0), NodeId::station('p', kC, 1)},
       {NodeId::station('O', kA, 0), NodeId::station('O', kB, 0)},
       {NodeId::station('O', kA, 0), NodeId::station('O', kC, 0)}};
+  EXPECT_EQ(got, expected);
+}
+
+// A crowd of four robots' places and objects of three labels, close enough that most nodes have
+// several candidates: the groups proposeMerges makes are those of every pair tested by brute force
+// (the rules above: different robots, places within 0.3 m and 0.3 m of radius, objects of one label
+// with a centre in the other's box, nearest pair joined first, one node per robot per group).
+TEST(Reconciliation, TheGroupsAreThoseOfEveryPairTestedByBruteForce) {
+  struct Item {
+    NodeId id;
+    RobotId robot;
+    Eigen::Vector3d p;
+    double radius = 0.0;  // a place's
+    uint32_t label = 0;   // an object's
+    double half = 0.0;
+  };
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  SceneGraph g;
+  std::vector<Item> places, objects;
+  std::map<RobotId, Eigen::Isometry3d> T;
+  for (int r = 0; r < 4; ++r) {
+    const RobotId robot(r);
+    T[robot] = Eigen::Isometry3d::Identity();
+    for (uint64_t k = 0; k < 60; ++k) {
+      const Eigen::Vector3d p(3.0 * unit(random), 3.0 * unit(random), 0.5 * unit(random));
+      places.push_back({NodeId::station('p', robot, k), robot, p, 0.5 + 0.4 * unit(random)});
+      place(g, robot, k, p, places.back().radius);
+    }
+    for (uint64_t k = 0; k < 40; ++k) {
+      const Eigen::Vector3d p(6.0 * unit(random), 6.0 * unit(random), 0.5);
+      const uint32_t label = 1 + static_cast<uint32_t>(3.0 * unit(random));
+      objects.push_back(
+          {NodeId::station('O', robot, k), robot, p, 0.0, label, 0.2 + 0.6 * unit(random)});
+      object(g, robot, k, p, label, objects.back().half);
+    }
+  }
+  // The groups by brute force: every pair, nearest first, into robot-disjoint groups.
+  const auto groups = [](const std::vector<Item>& items, auto match) {
+    std::vector<std::tuple<double, size_t, size_t>> pairs;
+    for (size_t i = 0; i < items.size(); ++i) {
+      for (size_t j = i + 1; j < items.size(); ++j) {
+        if (items[i].robot != items[j].robot && match(items[i], items[j]))
+          pairs.emplace_back((items[i].p - items[j].p).norm(), i, j);
+      }
+    }
+    std::sort(pairs.begin(), pairs.end());
+    std::vector<std::set<size_t>> group(items.size());
+    std::vector<size_t> of(items.size());
+    for (size_t i = 0; i < items.size(); ++i) group[of[i] = i] = {i};
+    const auto hasRobotOf = [&](const std::set<size_t>& a, const std::set<size_t>& b) {
+      for (const size_t x : a) {
+        for (const size_t y : b) {
+          if (items[x].robot == items[y].robot) return true;
+        }
+      }
+      return false;
+    };
+    for (const auto& [d, i, j] : pairs) {
+      const size_t a = of[i], b = of[j];
+      if (a == b || hasRobotOf(group[a], group[b])) continue;
+      for (const size_t m : group[b]) of[m] = a;
+      group[a].insert(group[b].begin(), group[b].end());
+      group[b].clear();
+    }
+    std::set<std::pair<NodeId, NodeId>> merges;
+    for (const std::set<size_t>& members : group) {
+      if (members.size() < 2) continue;
+      const size_t target =
+          *std::min_element(members.begin(), members.end(),
+                            [&](size_t x, size_t y) { return items[x].robot < items[y].robot; });
+      for (const size_t m : members) {
+        if (m != target) merges.insert({items[target].id, items[m].id});
+      }
+    }
+    return merges;
+  };
+  std::set<std::pair<NodeId, NodeId>> expected = groups(places, [](const Item& a, const Item& b) {
+    return (a.p - b.p).norm() <= 0.3 && std::abs(a.radius - b.radius) <= 0.3;
+  });
+  const std::set<std::pair<NodeId, NodeId>> object_merges =
+      groups(objects, [](const Item& a, const Item& b) {
+        const Eigen::Vector3d d = (a.p - b.p).cwiseAbs();
+        return a.label == b.label && ((d.array() <= a.half).all() || (d.array() <= b.half).all());
+      });
+  expected.insert(object_merges.begin(), object_merges.end());
+  ASSERT_GT(object_merges.size(), 20u);
+  ASSERT_GT(expected.size(), object_merges.size() + 40u);
+
+  std::set<std::pair<NodeId, NodeId>> got;
+  for (const MergeCandidate& c : proposeMerges(g, T)) got.insert({c.target, c.source});
   EXPECT_EQ(got, expected);
 }
 

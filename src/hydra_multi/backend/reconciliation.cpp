@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 #include <tuple>
 
@@ -26,28 +27,37 @@ struct Item {
 // Groups of items of different robots that `match`, joined nearest pair first, each group
 // holding at most one item of each robot: three robots' copies of one place make one group, not
 // one pair and a copy left over. Each group merges into its item of the lowest robot index.
-template <typename Match>
+// Items whose `kind` differs never match (objects of two labels): each kind is searched in an
+// index of its own, which finds the same pairs as one index of all items.
+template <typename Kind, typename Match>
 std::vector<MergeCandidate> groupUp(const std::vector<Item>& items, Layer layer, double reach,
-                                    Match match) {
-  std::vector<Eigen::Vector3d> positions;
-  for (const Item& item : items) positions.push_back(item.position);
-  const NearestNeighbors index(positions);
+                                    Kind kind, Match match) {
+  std::map<uint32_t, std::vector<size_t>> kinds;
+  for (size_t i = 0; i < items.size(); ++i) kinds[kind(items[i])].push_back(i);
   std::vector<std::tuple<double, size_t, size_t>> pairs;
-  for (size_t i = 0; i < items.size(); ++i) {
-    for (const auto& near : index.withinRadius(items[i].position, reach)) {
-      const size_t j = near.index;
-      if (j <= i || items[i].robot == items[j].robot) continue;
-      const double d = (items[i].position - items[j].position).norm();
-      if (match(items[i], items[j])) pairs.emplace_back(d, i, j);
+  for (const auto& [k, members] : kinds) {
+    std::vector<Eigen::Vector3d> positions;
+    positions.reserve(members.size());
+    for (const size_t i : members) positions.push_back(items[i].position);
+    const NearestNeighbors index(positions);
+    for (const size_t i : members) {
+      for (const auto& near : index.withinRadius(items[i].position, reach)) {
+        const size_t j = members[near.index];
+        if (j <= i || items[i].robot == items[j].robot) continue;
+        const double d = (items[i].position - items[j].position).norm();
+        if (match(items[i], items[j])) pairs.emplace_back(d, i, j);
+      }
     }
   }
   std::sort(pairs.begin(), pairs.end());
-  // Union-find over the items; each root knows its group's robots.
+  // Union-find over the items; each root knows its group's robots (an item of no pair stays
+  // alone, so its set is made only when a pair names it).
   std::vector<size_t> parent(items.size());
+  for (size_t i = 0; i < items.size(); ++i) parent[i] = i;
   std::vector<std::set<RobotId>> robots(items.size());
-  for (size_t i = 0; i < items.size(); ++i) {
-    parent[i] = i;
+  for (const auto& [d, i, j] : pairs) {
     robots[i] = {items[i].robot};
+    robots[j] = {items[j].robot};
   }
   const auto root = [&parent](size_t i) {
     while (parent[i] != i) i = parent[i] = parent[parent[i]];
@@ -64,7 +74,9 @@ std::vector<MergeCandidate> groupUp(const std::vector<Item>& items, Layer layer,
   }
   // Each group's members, in item order; the member of the lowest robot index is the target.
   std::map<size_t, std::vector<size_t>> groups;
-  for (size_t i = 0; i < items.size(); ++i) groups[root(i)].push_back(i);
+  for (size_t i = 0; i < items.size(); ++i) {
+    if (parent[i] != i || !robots[i].empty()) groups[root(i)].push_back(i);
+  }
   std::vector<MergeCandidate> candidates;
   for (const auto& [group, members] : groups) {
     if (members.size() < 2) continue;
@@ -99,12 +111,14 @@ std::vector<MergeCandidate> proposeMerges(
       if (node.layer() == Layer::kObjects) objects.push_back({id, robot, p, &node});
     }
   }
-  std::vector<MergeCandidate> candidates = groupUp(
-      places, Layer::kPlaces, options.place_max_distance, [&](const Item& a, const Item& b) {
-        return std::abs(a.node->find<PlaceAttributes>()->distance -
-                        b.node->find<PlaceAttributes>()->distance) <=
-               options.place_max_radius_difference;
-      });
+  const auto one_kind = [](const Item&) { return 0u; };
+  std::vector<MergeCandidate> candidates =
+      groupUp(places, Layer::kPlaces, options.place_max_distance, one_kind,
+              [&](const Item& a, const Item& b) {
+                return std::abs(a.node->find<PlaceAttributes>()->distance -
+                                b.node->find<PlaceAttributes>()->distance) <=
+                       options.place_max_radius_difference;
+              });
   // Objects: same label, and either (aligned) box holds the other's centre.
   const auto halfExtents = [&](const Item& item) -> Eigen::Vector3d {
     const auto& box = item.node->semantic()->bounding_box;
@@ -121,7 +135,8 @@ std::vector<MergeCandidate> proposeMerges(
     return inside(b.position, a.position, halfExtents(a)) ||
            inside(a.position, b.position, halfExtents(b));
   };
-  for (MergeCandidate c : groupUp(objects, Layer::kObjects, kObjectReach, objects_match))
+  const auto label = [](const Item& item) { return item.node->semantic()->label; };
+  for (MergeCandidate c : groupUp(objects, Layer::kObjects, kObjectReach, label, objects_match))
     candidates.push_back(c);
   return candidates;
 }
