@@ -53,8 +53,8 @@ struct RobustPgoOptions {
   int gnc_inner_iterations = 3;
   /// GNC's mu step (GncOptions::mu_step) when at least as many robust factors are known inliers as
   /// are undecided: an incremental round deciding what is new beside what earlier rounds kept.
-  /// 1: gnc.mu_step throughout.
-  double incremental_mu_step = 3.0;
+  /// 1: gnc.mu_step throughout. docs/DECISIONS.md: "GNC's incremental step 6, not 3".
+  double incremental_mu_step = 6.0;
   /// GNC's first weights from the residuals at the initial estimate instead of a least-squares
   /// solve over every loop closure (see runGnc).
   bool gnc_from_initial_estimate = true;
