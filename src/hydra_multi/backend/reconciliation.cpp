@@ -50,21 +50,19 @@ std::vector<MergeCandidate> groupUp(const std::vector<Item>& items, Layer layer,
     }
   }
   std::sort(pairs.begin(), pairs.end());
-  // Union-find over the items; each root knows its group's robots (an item of no pair stays
-  // alone, so its set is made only when a pair names it).
+  // Union-find over the items; each root knows its group's robots (empty for an item no pair
+  // has named yet, which is its own root).
   std::vector<size_t> parent(items.size());
   for (size_t i = 0; i < items.size(); ++i) parent[i] = i;
   std::vector<std::set<RobotId>> robots(items.size());
-  for (const auto& [d, i, j] : pairs) {
-    robots[i] = {items[i].robot};
-    robots[j] = {items[j].robot};
-  }
   const auto root = [&parent](size_t i) {
     while (parent[i] != i) i = parent[i] = parent[parent[i]];
     return i;
   };
   for (const auto& [d, i, j] : pairs) {
     const size_t a = root(i), b = root(j);
+    if (robots[a].empty()) robots[a] = {items[a].robot};
+    if (robots[b].empty()) robots[b] = {items[b].robot};
     if (a == b) continue;
     if (std::any_of(robots[b].begin(), robots[b].end(),
                     [&](RobotId r) { return robots[a].count(r) != 0; }))
