@@ -6,8 +6,10 @@
 // solves, the poses the whole-graph solve moved (moved), whether that solve took the analysis
 // made ahead while GNC ran (ahead: 1) and the mesh vertices deformed anew (meshed; the others
 // kept from the last round, MeshBinding). With --every K, a round also runs
-// after every K updates, as an online station whose backend keeps up would run them. Build in
-// Release (`make bench-backend`).
+// after every K updates, as an online station whose backend keeps up would run them. With
+// --rounds-of TIMING_CSV, a round runs after the updates each backend round of a station run
+// followed (the `timing.csv` of `hydra-multi run`, its rounds while mapping): the station's rounds
+// replayed on one thread, each with its own figures. Build in Release (`make bench-backend`).
 //
 // With --from-scratch, the rounds on the final state take nothing from earlier rounds (as the
 // station's last round). With --compare-full, a second backend that solves the whole deformation
@@ -26,18 +28,22 @@
 // the online rounds a line sums them up: rounds scored, those with an ATE over 1 m (a robot
 // placed in the wrong room or wing) and those keeping wrong loop closures, the median and max ATE.
 //
-//   bench_backend DATASET_DIR [--rounds N] [--every K] [--config FILE] [--verbose]
-//                 [--from-scratch] [--compare-full]
+//   bench_backend DATASET_DIR [--rounds N] [--every K | --rounds-of TIMING_CSV] [--config FILE]
+//                 [--verbose] [--from-scratch] [--compare-full]
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <optional>
+#include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include "hydra_multi/core/result.h"
 #include "hydra_multi/eval/dataset_evaluation.h"
 #include "hydra_multi/eval/dataset_ground_truth.h"
 #include "hydra_multi/station/freed_memory.h"
@@ -46,15 +52,59 @@
 
 using namespace hydra_multi;
 
+namespace {
+
+// The updates applied before each round a station run made while mapping: `robot_time_s` of the
+// `timing.csv` rows of kind backend with from_scratch 0.
+Result<std::set<size_t>> roundsOf(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return Error{"cannot read " + path};
+  const auto cellsOf = [](const std::string& line) {
+    std::vector<std::string> cells;
+    std::stringstream split(line);
+    for (std::string cell; std::getline(split, cell, ',');) cells.push_back(cell);
+    return cells;
+  };
+  std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> header = cellsOf(line);
+  const auto column = [&header](const char* name) {
+    return size_t(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  const size_t kind = column("kind"), after = column("robot_time_s"),
+               scratch = column("from_scratch");
+  if (std::max({kind, after, scratch}) >= header.size())
+    return Error{path +
+                 ": not a station timing.csv (no kind, robot_time_s or from_scratch column)"};
+  std::set<size_t> rounds;
+  for (size_t row = 2; std::getline(in, line); ++row) {
+    std::vector<std::string> cells = cellsOf(line);
+    cells.resize(header.size());
+    if (cells[kind] != "backend" || cells[scratch] != "0") continue;
+    char* end = nullptr;
+    const double updates = std::strtod(cells[after].c_str(), &end);
+    if (end == cells[after].c_str() || *end != '\0' || !(updates >= 0.0) ||
+        updates != double(size_t(updates)))
+      return Error{path + ":" + std::to_string(row) + ": robot_time_s '" + cells[after] +
+                   "' is not a count of updates"};
+    rounds.insert(size_t(updates));
+  }
+  if (rounds.empty()) return Error{path + ": no backend round while mapping"};
+  return rounds;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   if (argc < 2 || argv[1][0] == '-') {
     std::fprintf(stderr,
-                 "usage: bench_backend DATASET_DIR [--rounds N] [--every K] [--config FILE] "
-                 "[--verbose] [--from-scratch] [--compare-full]\n");
+                 "usage: bench_backend DATASET_DIR [--rounds N] [--every K | --rounds-of "
+                 "TIMING_CSV] [--config FILE] [--verbose] [--from-scratch] [--compare-full]\n");
     return 2;
   }
   int rounds = 1;
   size_t every = 0;
+  const char* rounds_of = nullptr;  // a station's timing.csv
   StationOptions options;
   bool compare_full = false, from_scratch = false;
   for (int i = 2; i < argc; ++i) {
@@ -62,6 +112,8 @@ int main(int argc, char** argv) {
       rounds = std::max(1, std::atoi(argv[++i]));
     } else if (std::strcmp(argv[i], "--every") == 0 && i + 1 < argc) {
       every = static_cast<size_t>(std::max(1, std::atoi(argv[++i])));
+    } else if (std::strcmp(argv[i], "--rounds-of") == 0 && i + 1 < argc) {
+      rounds_of = argv[++i];
     } else if (std::strcmp(argv[i], "--config") == 0 && i + 1 < argc) {
       if (Status s = loadStationConfig(argv[++i], options); !s) {
         std::fprintf(stderr, "error: %s\n", s.message().c_str());
@@ -80,6 +132,20 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  if (every > 0 && rounds_of != nullptr) {
+    std::fprintf(stderr, "error: --every and --rounds-of both say when rounds run; give one\n");
+    return 2;
+  }
+  std::set<size_t> rounds_after;  // --rounds-of: the updates applied before each online round
+  if (rounds_of != nullptr) {
+    auto read = roundsOf(rounds_of);
+    if (!read) {
+      std::fprintf(stderr, "error: %s\n", read.error().c_str());
+      return 1;
+    }
+    rounds_after = std::move(read.value());
+  }
+  const bool online = every > 0 || !rounds_after.empty();
   if (options.keep_freed_mb > 0) keepFreedMemory();
   auto streams = loadDatasetStreams(argv[1]);
   if (!streams) {
@@ -186,7 +252,7 @@ int main(int argc, char** argv) {
       "lc_wrong  "
       "merges_x   "
       " ate_m  lcsol_s   cand_s     lm_s   fact_s   anal_s  lm_it  freed_mb  back\n";
-  if (every > 0) std::printf("%s", header);
+  if (online) std::printf("%s", header);
   const auto t0 = std::chrono::steady_clock::now();
   double online_s = 0.0;
   size_t applied = 0, online_rounds = 0;
@@ -200,7 +266,8 @@ int main(int argc, char** argv) {
     const UpdateReport report = processor.process(update);
     if (report.outcome != UpdateOutcome::kApplied) continue;
     detector.update(processor, report.new_keyframes);
-    if (every > 0 && ++applied % every == 0) {
+    ++applied;
+    if (every > 0 ? applied % every == 0 : rounds_after.count(applied) != 0) {
       const std::string name = "u" + std::to_string(applied);
       online_s += runRound(name, false);
       ++online_rounds;
