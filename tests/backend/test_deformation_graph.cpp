@@ -262,10 +262,28 @@ TEST(DeformationGraph, AWarmStartedRoundSolvesTheWholeGraphOnlyWhereItChanged) {
   DeformationGraphOptions narrow = options;
   narrow.local_max_share =
       0.5 * static_cast<double>(local.whole_graph_free) / static_cast<double>(graph.initial.size());
+  narrow.local_deferred_share = narrow.local_max_share;  // none deferred
   const DeformationResult over = optimizeDeformationGraph(graph, narrow, {}, &warm);
   EXPECT_EQ(over.whole_graph_free, graph.initial.size());
+  EXPECT_FALSE(over.whole_graph_deferred);
   for (const auto& [id, pose] : whole.poses)
     EXPECT_TRUE(over.poses.at(id).isApprox(pose, 1e-12)) << id.str();
+  EXPECT_FALSE(local.whole_graph_deferred);
+  // Within local_deferred_share: the local solve, and the next round owes a whole one.
+  DeformationGraphOptions deferring = narrow;
+  deferring.local_deferred_share = 1.0;
+  const DeformationResult deferred = optimizeDeformationGraph(graph, deferring, {}, &warm);
+  EXPECT_EQ(deferred.whole_graph_free, local.whole_graph_free);
+  EXPECT_TRUE(deferred.whole_graph_deferred);
+  for (const auto& [id, pose] : local.poses)
+    EXPECT_TRUE(deferred.poses.at(id).isApprox(pose, 1e-12)) << id.str();
+  DeformationWarmStart owed = warm;
+  owed.whole_owed = true;
+  const DeformationResult paid = optimizeDeformationGraph(graph, deferring, {}, &owed);
+  EXPECT_EQ(paid.whole_graph_free, graph.initial.size());
+  EXPECT_FALSE(paid.whole_graph_deferred);
+  for (const auto& [id, pose] : whole.poses)
+    EXPECT_TRUE(paid.poses.at(id).isApprox(pose, 1e-12)) << id.str();
 }
 
 // Robots a and b of the circle, true loop closures between them, and one object per robot beside

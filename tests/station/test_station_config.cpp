@@ -22,6 +22,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_DOUBLE_EQ(options.backend.readmit_unsolved_share, 0.01);
   EXPECT_TRUE(options.backend.deformation.solver.keep_converged_gnc_solve);
   EXPECT_TRUE(options.backend.readmit_unsolved_with_merges);
+  EXPECT_DOUBLE_EQ(options.backend.deformation.local_deferred_share, 0.6);
   EXPECT_EQ(options.keep_freed_mb, 3072u);
   const Status s = applyStationConfig(R"({
       "loop_closures": {"object_ambiguity_ratio": 0, "object_rival_distance": 2.5,
@@ -33,7 +34,8 @@ TEST(StationConfig, KeysSetOptions) {
                       "odometry_rotation_variance": 0.01, "reduce_chains": true,
                       "chain_min_share": 0.5, "linearization_threads": 1,
                       "whole_graph_analysis_ahead": true, "readmit_unsolved_share": 0,
-                      "keep_converged_gnc_solve": false, "readmit_unsolved_with_merges": false},
+                      "keep_converged_gnc_solve": false, "readmit_unsolved_with_merges": false,
+                      "local_deferred_share": 0.7},
       "reconciliation": {"enabled": false, "admit_fitting_merges": false,
                          "merge_while_solving": false, "plan_merges_ahead": false,
                          "place_max_distance": 0.6, "label_votes": true, "icp_threads": 3,
@@ -68,6 +70,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_DOUBLE_EQ(options.backend.readmit_unsolved_share, 0.0);
   EXPECT_FALSE(options.backend.deformation.solver.keep_converged_gnc_solve);
   EXPECT_FALSE(options.backend.readmit_unsolved_with_merges);
+  EXPECT_DOUBLE_EQ(options.backend.deformation.local_deferred_share, 0.7);
   EXPECT_EQ(options.backend.reconciliation.icp_threads, 3);
   EXPECT_DOUBLE_EQ(options.backend.reconciliation.icp_reuse_m, 0.0);
   EXPECT_DOUBLE_EQ(options.backend.reconciliation.icp_reuse_rad, 0.002);
@@ -108,6 +111,8 @@ TEST(StationConfig, ErrorsNameTheProblemAndChangeNothing) {
        "deformation.chain_min_share: expected a number >= 0.0 and <= 1.0"},
       {R"({"deformation": {"readmit_unsolved_share": 1.5}})",
        "deformation.readmit_unsolved_share: expected a number >= 0.0 and <= 1.0"},
+      {R"({"deformation": {"local_deferred_share": 1.5}})",
+       "deformation.local_deferred_share: expected a number >= 0.0 and <= 1.0"},
       {R"({"deformation": {"gnc_incremental_mu_step": 0.5}})",
        "deformation.gnc_incremental_mu_step: expected a number >= 1"},
       {R"({"reconciliation": {"label_confusion": 0.5}})",

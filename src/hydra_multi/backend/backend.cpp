@@ -209,6 +209,7 @@ DeformationWarmStart Backend::startWithMerges(const DeformationGraph& graph, con
   }
   warm.last_whole = std::move(last.last_whole);
   warm.last_skeleton = std::move(last.last_skeleton);
+  warm.whole_owed = last.whole_owed;
   for (const PoseGraphEdge& e : merges) {
     const auto verdict = last.verdicts.find({e.from, e.to});
     if (verdict != last.verdicts.end()) {

@@ -92,6 +92,11 @@ struct DeformationGraphOptions {
   double local_move_rad = 1e-3;
   int local_hops = 1;
   double local_max_share = 0.5;
+  /// Where more than local_max_share but at most local_deferred_share of the nodes changed, the
+  /// solve stays local and the next round owes a whole one (DeformationResult::
+  /// whole_graph_deferred, DeformationWarmStart::whole_owed): a round where much of the graph
+  /// moved hands the whole solve on to the next. At most local_max_share: none deferred.
+  double local_deferred_share = 0.6;
   /// The whole-graph solve's sparse analysis (ordering, symbolic factorization) made on a second
   /// thread while GNC solves the skeleton, for the factors GNC is expected to keep (every robust
   /// factor it starts with, and the merges it holds out, which it takes back where they fit; not
@@ -149,7 +154,10 @@ struct DeformationResult {
   double whole_graph_s = 0.0;   ///< the whole-graph solve after it (two_stage)
   SolverTime solver_time;       ///< GNC's solves and the whole graph's
   size_t whole_graph_free = 0;  ///< poses that solve moved (local_whole_graph: not all)
-  size_t admitted = 0;          ///< held-out factors known as they fit the start (admit_if_fitting)
+  /// The whole-graph solve local though more than local_max_share changed: the next owes a whole
+  /// one (local_deferred_share).
+  bool whole_graph_deferred = false;
+  size_t admitted = 0;  ///< held-out factors known as they fit the start (admit_if_fitting)
   /// The whole-graph solve took the analysis made ahead (whole_graph_analysis_ahead).
   bool whole_graph_analyzed_ahead = false;
 };
@@ -171,6 +179,9 @@ struct DeformationWarmStart {
   /// Held-out robust factors (from, to) that are known inliers where they fit the start (their
   /// squared residual at the start within GNC's threshold); the others stay held out.
   std::set<std::pair<NodeId, NodeId>> admit_if_fitting;
+  /// The earlier round deferred its whole solve to this one: the whole graph is solved whole
+  /// (DeformationGraphOptions::local_deferred_share).
+  bool whole_owed = false;
 };
 
 /// `held_out`: robust factors (from, to) GNC starts without, taken back only if they fit its

@@ -286,10 +286,12 @@ DeformationResult optimizeDeformationGraph(
   std::vector<PoseGraphEdge> unsolved;
   for (const size_t k : result.solve.readmitted_unsolved) unsolved.push_back(robust.edges[k]);
   const std::optional<std::set<NodeId>> changed =
-      options.local_whole_graph && warm != nullptr
+      options.local_whole_graph && warm != nullptr && !warm->whole_owed
           ? changedNodes(whole, left_out, initial, *warm, unsolved, options)
           : std::nullopt;
-  if (!changed || changed->size() > options.local_max_share * initial.size()) {
+  const double nodes = static_cast<double>(initial.size());
+  if (!changed ||
+      changed->size() > std::max(options.local_max_share, options.local_deferred_share) * nodes) {
     if (analyzing.valid()) analyzing.wait();
     const bool prepared = ahead != nullptr && ahead->holds();
     plain.solver.analyses = ahead;
@@ -323,6 +325,7 @@ DeformationResult optimizeDeformationGraph(
       }
     }
     result.whole_graph_free = changed->size();
+    result.whole_graph_deferred = changed->size() > options.local_max_share * nodes;
   }
   result.whole_graph_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - whole_start).count();

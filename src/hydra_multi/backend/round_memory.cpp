@@ -68,6 +68,7 @@ void RoundMemory::remember(const SceneGraph& frontend, const DeformationGraph& g
   latest_proposal_ = latestOf(proposal_);
   latest_held_out_ = latestOf(held_out_);
   verdicts_ = result.robust_inlier;
+  whole_owed_ = result.whole_graph_deferred;
 }
 
 std::set<RobotId> RoundMemory::alignedAsBefore(
@@ -127,6 +128,7 @@ DeformationWarmStart RoundMemory::lastRound(
     if (const Eigen::Isometry3d* correction = skeleton.find(id))
       warm.last_skeleton.emplace_hint(warm.last_skeleton.end(), id, *correction * initial);
   }
+  warm.whole_owed = whole_owed_;
   return warm;
 }
 

@@ -46,6 +46,7 @@ class RoundMemory {
   std::map<RobotId, Eigen::Isometry3d> latest_whole_, latest_proposal_, latest_held_out_;
   std::map<RobotId, Eigen::Isometry3d> alignment_;
   std::map<std::pair<NodeId, NodeId>, bool> verdicts_;
+  bool whole_owed_ = false;  ///< the last round deferred its whole-graph solve
 };
 
 }  // namespace hydra_multi

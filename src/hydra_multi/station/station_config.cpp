@@ -124,6 +124,9 @@ const std::map<std::string, std::map<std::string, Setter>>& setters() {
         {"readmit_unsolved_share",
          number([](StationOptions& o, double x) { o.backend.readmit_unsolved_share = x; }, 0.0,
                 false, 1.0)},
+        {"local_deferred_share",
+         number([](StationOptions& o, double x) { o.backend.deformation.local_deferred_share = x; },
+                0.0, false, 1.0)},
         {"whole_graph_analysis_ahead", flag([](StationOptions& o, bool b) {
            o.backend.deformation.whole_graph_analysis_ahead = b;
          })},
