@@ -235,6 +235,66 @@ TEST(InitialAlignment, DeclinesAnEstimateTheOptimizationRefuted) {
   EXPECT_EQ(alignment.realignmentsDeclined(), 3u);
 }
 
+// The spanning tree composes robot c's estimate through the pair (b, c), whose look-alike loop
+// closures (32) have come to outnumber its right ones (15) and the pair (a, c)'s (30): the
+// estimate puts c 15 m off. In that frame 32 of c's loop closures fit, in its kept frame 45, so c
+// keeps its frame (realign_fit_share). Without the check (0) it is re-aligned.
+TEST(InitialAlignment, DeclinesAnEstimateThatFitsFewerLoopClosures) {
+  const Team t = team(3);
+  const RobotId a(0), b(1), c(2);
+  std::vector<PoseGraphEdge> edges = closures(t, a, b, 50, 0, 20);
+  for (const auto& more : {closures(t, a, c, 30, 0, 21), closures(t, b, c, 15, 0, 22)})
+    edges.insert(edges.end(), more.begin(), more.end());
+  InitialAlignmentOptions unchecked;
+  unchecked.realign_fit_share = 0.0;
+  InitialAlignment alignment, every_time(unchecked);
+  alignment.update(t.frontend, edges, a);
+  every_time.update(t.frontend, edges, a);
+  const Eigen::Isometry3d right = t.T_global_robot.at(a).inverse() * t.T_global_robot.at(c);
+  const auto offRight = [&](const InitialAlignment& x) {
+    return (x.aligned().at(c).T_global_robot.translation() - right.translation()).norm();
+  };
+  ASSERT_LT(offRight(alignment), 0.1);
+  const auto look_alikes = shiftedClosures(t, b, c, 32, 23);
+  edges.insert(edges.end(), look_alikes.begin(), look_alikes.end());
+  const std::map<RobotId, Eigen::Isometry3d> optimized = {
+      {b, alignment.aligned().at(b).T_global_robot}, {c, right}};
+  alignment.update(t.frontend, edges, a, optimized);
+  every_time.update(t.frontend, edges, a, optimized);
+  EXPECT_EQ(alignment.realignments(), 0u);
+  EXPECT_EQ(alignment.realignmentsUnfit(), 1u);
+  EXPECT_LT(offRight(alignment), 0.1);
+  EXPECT_EQ(every_time.realignments(), 1u);
+  EXPECT_EQ(every_time.realignmentsUnfit(), 0u);
+  EXPECT_GT(offRight(every_time), 10.0);
+}
+
+// The fit is weighed as the consensus weighs: robot b, aligned to 10 look-alikes while they
+// weighed most, is re-aligned once two distinctive right loop closures outweigh them, although
+// in the right frame 6 loop closures fit against 10 in the kept one.
+TEST(InitialAlignment, WeighsTheFitOfAnEstimateBySupport) {
+  const Team t = team(2);
+  const RobotId a(0), b(1);
+  std::vector<PoseGraphEdge> edges = shiftedClosures(t, a, b, 10, 24);
+  const auto good = closures(t, a, b, 6, 0, 25);
+  edges.insert(edges.end(), good.begin(), good.end());
+  std::vector<double> early(10, 1.0), later(10, 0.5);
+  for (size_t i = 0; i < good.size(); ++i) {
+    early.push_back(0.1);
+    later.push_back(i < 2 ? 3.0 : 0.5);
+  }
+  InitialAlignment alignment;
+  alignment.update(t.frontend, edges, a, {}, early);
+  const Eigen::Isometry3d right = t.T_global_robot.at(a).inverse() * t.T_global_robot.at(b);
+  const Eigen::Isometry3d wrong = alignment.aligned().at(b).T_global_robot;
+  ASSERT_GT((wrong.translation() - right.translation()).norm(), 10.0);
+  alignment.update(t.frontend, edges, a, {{b, wrong}}, later);
+  EXPECT_EQ(alignment.realignments(), 1u);
+  EXPECT_EQ(alignment.realignmentsUnfit(), 0u);
+  EXPECT_LT((alignment.aligned().at(b).T_global_robot.translation() - right.translation()).norm(),
+            0.1);
+}
+
 // Support per loop closure: 6 right ones, two of them distinctive, against 10 look-alikes that
 // agree on a wrong frame. Weighed, the right frame wins; by count (weigh_support off), the wrong.
 TEST(InitialAlignment, WeighsLoopClosuresBySupport) {

@@ -1,6 +1,32 @@
 #include "hydra_multi/backend/initial_alignment.h"
 
+#include <algorithm>
+#include <unordered_map>
+
 namespace hydra_multi {
+namespace {
+
+// The weight (`support`, else 1 each) of the loop closures among `edges` that touch a robot
+// `moving` marks and whose ends meet within fit_m, each robot in its frame of `frames`.
+double fittingSupport(const std::vector<PoseGraphEdge>& edges, const std::vector<double>& support,
+                      const std::unordered_map<NodeId, size_t>& robot_of,
+                      const std::map<NodeId, Eigen::Isometry3d>& poses,
+                      const std::vector<std::optional<Eigen::Isometry3d>>& frames,
+                      const std::vector<bool>& moving, double fit_m) {
+  double weight = 0.0;
+  for (size_t k = 0; k < edges.size(); ++k) {
+    const PoseGraphEdge& e = edges[k];
+    const size_t from = robot_of.at(e.from), to = robot_of.at(e.to);
+    if ((!moving[from] && !moving[to]) || !frames[from] || !frames[to]) continue;
+    const Eigen::Vector3d predicted =
+        (*frames[from] * poses.at(e.from) * e.T_from_to).translation();
+    const Eigen::Vector3d found = (*frames[to] * poses.at(e.to)).translation();
+    if ((predicted - found).norm() <= fit_m) weight += support.empty() ? 1.0 : support[k];
+  }
+  return weight;
+}
+
+}  // namespace
 
 const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
     const SceneGraph& frontend, const std::vector<PoseGraphEdge>& inter_robot,
@@ -68,6 +94,13 @@ const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
   // instead would never catch a wrong early one: the optimization starts from it and stays there,
   // GNC rejecting the loop closures that contradict it.)
   if (afresh) tried_.clear();
+  struct Candidate {
+    size_t index;
+    Tried tried;
+    bool new_frame;  ///< the estimate moves the start by more than realign_threshold_m
+  };
+  std::vector<Candidate> candidates;  // aligned robots the estimate would re-align
+  std::vector<bool> take(robots.size(), false);
   for (size_t i = 0; i < robots.size(); ++i) {
     const RobotId robot = robots[i];
     if (!result.T_world_robot[i]) continue;
@@ -88,10 +121,51 @@ const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
         ++declined_;
         continue;
       }
-      ++realignments_;
-      tried_[robot] = {by_estimate, by_map};
+      const Eigen::Vector3d by_kept =
+          (known->second.T_global_robot * poses[first->second.second]).translation();
+      candidates.push_back({i,
+                            {by_estimate, by_map},
+                            (by_estimate - by_kept).norm() > options_.realign_threshold_m});
+      continue;
     }
-    RobotFrameAlignment& alignment = aligned_[robot];
+    take[i] = true;
+  }
+
+  // The candidates the estimate gives new frames are re-aligned together, and only where, in
+  // those frames, the inter-robot loop closures of theirs that fit weigh at least
+  // realign_fit_share of those that fit in their kept frames, every other robot in its kept frame.
+  // A candidate whose frame stays (the optimization moved it away) is re-aligned.
+  std::vector<bool> new_frame(robots.size(), false);
+  for (const Candidate& c : candidates) new_frame[c.index] = c.new_frame;
+  if (options_.realign_fit_share > 0.0 &&
+      std::find(new_frame.begin(), new_frame.end(), true) != new_frame.end()) {
+    std::vector<std::optional<Eigen::Isometry3d>> kept(robots.size()), moved(robots.size());
+    for (size_t i = 0; i < robots.size(); ++i) {
+      const auto known = aligned_.find(robots[i]);
+      kept[i] = known != aligned_.end() ? std::optional(known->second.T_global_robot)
+                                        : result.T_world_robot[i];
+      moved[i] = new_frame[i] ? result.T_world_robot[i] : kept[i];
+    }
+    const auto fits = [&](const std::vector<std::optional<Eigen::Isometry3d>>& frames) {
+      return fittingSupport(edges, edge_support, robot_of, poses, frames, new_frame,
+                            options_.realign_fit_m);
+    };
+    if (fits(moved) < options_.realign_fit_share * fits(kept)) {
+      const auto unfit = std::remove_if(candidates.begin(), candidates.end(),
+                                        [](const Candidate& c) { return c.new_frame; });
+      unfit_ += static_cast<size_t>(candidates.end() - unfit);
+      candidates.erase(unfit, candidates.end());
+    }
+  }
+  for (const Candidate& c : candidates) {
+    ++realignments_;
+    tried_[robots[c.index]] = c.tried;
+    take[c.index] = true;
+  }
+
+  for (size_t i = 0; i < robots.size(); ++i) {
+    if (!take[i]) continue;
+    RobotFrameAlignment& alignment = aligned_[robots[i]];
     alignment.T_global_robot = *result.T_world_robot[i];
     for (const RobotPairAlignment& pair : result.pairs) {
       if (pair.in_tree && (pair.robot_a == i || pair.robot_b == i) && i != 0)

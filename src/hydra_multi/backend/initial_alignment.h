@@ -14,11 +14,12 @@
 // Online, a robot once aligned keeps its alignment: it is replaced only when this round's
 // estimate, from every loop closure so far, disagrees with the backend's optimized result by more
 // than realign_threshold_m (the pose of the robot's first keyframe after optimization against the
-// one the estimate gives), and the optimization has not refuted about that estimate already
-// (decline_refuted). A robot not aligned yet stays in its own frame and takes no part in merging.
-// A round afresh (the station's last) takes every robot's estimate from this round's loop closures,
-// so its alignments do not depend on when earlier rounds ran; a robot this round cannot align
-// keeps the alignment it had.
+// one the estimate gives), the optimization has not already refuted that estimate
+// (decline_refuted), and, where the estimate is a new frame, the new frames fit as much of the
+// robots' inter-robot loop closures (by support) as the kept ones (realign_fit_share). A robot not
+// aligned yet stays in its own frame and takes no part in merging. A round afresh (the station's
+// last) takes every robot's estimate from this round's loop closures, so its alignments do not
+// depend on when earlier rounds ran; a robot this round cannot align keeps the alignment it had.
 //
 // The global frame is the root's: the robot the caller prefers (the station: robot a, or the
 // lowest robot it has data of). It stays where it was first put; when a lower robot is preferred
@@ -51,6 +52,16 @@ struct InitialAlignmentOptions {
   /// there, the robot is not re-aligned to an estimate within realign_threshold_m of that one.
   bool decline_refuted = true;
   double refuted_within_m = 1.0;
+  /// Estimates that fit the robots' loop closures worse than their kept frames: the robots whose
+  /// estimated frames move their starts by more than realign_threshold_m from their kept frames
+  /// are re-aligned together, and only where, in the estimated frames, their inter-robot loop
+  /// closures that fit (ends within realign_fit_m, the keyframes as the robots recorded them)
+  /// weigh at least this share of those that fit in their kept frames, every other robot in its
+  /// kept frame; each weighs its support in the consensus (weigh_support), else 1. The spanning
+  /// tree composes an estimate through other pairs, whose consensus can hold look-alikes; this
+  /// checks it against all of the robots' loop closures. 0: not checked.
+  double realign_fit_share = 1.0;
+  double realign_fit_m = 2.0;
   /// Weigh each loop closure in its pair's consensus by the support the caller gives (the
   /// station: how distinctive its match is, frontend/loop_closure_detector.h); false: by count,
   /// as the paper.
@@ -92,6 +103,8 @@ class InitialAlignment {
   size_t realignments() const { return realignments_; }
   /// Re-alignments not made: the estimate was one the optimization had refuted (decline_refuted).
   size_t realignmentsDeclined() const { return declined_; }
+  /// Re-alignments not made: the estimated frame fit less of the loop closures (realign_fit_share).
+  size_t realignmentsUnfit() const { return unfit_; }
   /// Times the global frame moved to a preferred root that joined late.
   size_t rootChanges() const { return root_changes_; }
   /// Per inter-robot loop closure (from, to) of the last round: an inlier of its pair's average.
@@ -104,6 +117,7 @@ class InitialAlignment {
   std::vector<RobotPairAlignment> pairs_;
   size_t realignments_ = 0;
   size_t declined_ = 0;
+  size_t unfit_ = 0;
   /// Per robot re-aligned, its start by the estimate it took and as optimized before.
   struct Tried {
     Eigen::Vector3d estimate, optimized;
