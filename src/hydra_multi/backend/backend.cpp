@@ -127,7 +127,7 @@ Backend::Proposals Backend::proposeOnLoopClosureSolve(
   DeformationGraphOptions skeleton = options_.deformation;
   skeleton.final_iterations = 0;
   if (incremental()) skeleton.solver.readmit_unsolved_share = options_.readmit_unsolved_share;
-  const DeformationGraph graph =
+  DeformationGraph graph =
       buildDeformationGraph(frontend, team.inputs, loop_closures, {}, skeleton);
   std::map<NodeId, Eigen::Isometry3d> last_proposal, last_held_out;
   DeformationWarmStart warm = lastRound(graph, team, &last_proposal, &last_held_out);
@@ -138,7 +138,7 @@ Backend::Proposals Backend::proposeOnLoopClosureSolve(
   warm.held_out = std::move(last_held_out);
   warm.readmitted = std::move(last_proposal);
   report.verdicts_known = warm.verdicts.size();
-  const DeformationResult solved = optimizeDeformationGraph(graph, skeleton, held_out, &warm);
+  DeformationResult solved = optimizeDeformationGraph(graph, skeleton, held_out, &warm);
   report.verdicts_redecided += solved.solve.known_contradicted;
   report.solves += solved.solve.solves;
   report.solver_time += solved.solver_time;
@@ -155,6 +155,9 @@ Backend::Proposals Backend::proposeOnLoopClosureSolve(
       incremental() ? &icp_cache_ : nullptr);
   report.candidates_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - solve_end).count();
+  spent_.keep(std::move(graph));
+  spent_.keep(std::move(warm));
+  spent_.keep(std::move(solved));
   return proposals;
 }
 
@@ -340,7 +343,7 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     proposals = proposeOnLoopClosureSolve(frontend, team, loop_closures, held_out, report);
   const std::vector<PoseGraphEdge> merges =
       mergeFactors(proposals.candidates, team.T_global_robot, options_.reconciliation);
-  const DeformationGraph graph =
+  DeformationGraph graph =
       buildDeformationGraph(frontend, team.inputs, loop_closures, merges, options_.deformation);
   report.variables = graph.initial.size();
   report.factors = graph.graph.edges.size();
@@ -366,7 +369,7 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
     with_merges.solver.readmit_unsolved_share = options_.readmit_unsolved_share;
     with_merges.solver.readmit_unsolved_first = true;
   }
-  const DeformationResult result =
+  DeformationResult result =
       optimizeDeformationGraph(graph, with_merges, held_out, warm.poses.empty() ? nullptr : &warm,
                                planned ? plan : Verdicts(), ahead ? plan : Verdicts());
   report.verdicts_redecided += result.solve.known_contradicted;
@@ -397,7 +400,12 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   }
   report.rooms_s = lap();
   remembered.get();
+  spent_.keep(std::move(graph_));
   graph_ = std::move(map);
+  spent_.keep(std::move(graph));
+  spent_.keep(std::move(warm));
+  spent_.keep(std::move(result));
+  spent_.release();
   report.nodes = graph_.numNodes();
   report.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;

@@ -36,6 +36,7 @@
 #include "hydra_multi/backend/reconciliation.h"
 #include "hydra_multi/backend/room_segmentation.h"
 #include "hydra_multi/backend/round_memory.h"
+#include "hydra_multi/core/background_release.h"
 #include "hydra_multi/core/nearest_neighbors.h"
 
 namespace hydra_multi {
@@ -255,6 +256,9 @@ class Backend {
                                BackendRoundReport& report);
 
   BackendOptions options_;
+  // What a round is done with (its deformation graphs, warm starts, the last backend graph),
+  // freed on a second thread at the round's end.
+  mutable BackgroundRelease spent_;
   InitialAlignment alignment_;
   std::map<RobotId, RobotFrameAlignment> aligned_;
   SceneGraph graph_;

@@ -2,12 +2,13 @@
 // skeleton, from a warm start where there is one, then the whole graph where the skeleton moved it.
 #include "hydra_multi/backend/deformation_graph.h"
 
+#include <algorithm>
 #include <chrono>
 #include <future>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <set>
-#include <unordered_map>
 
 #include "hydra_multi/core/ascending_lookup.h"
 #include "hydra_multi/optim/sparse_levenberg_marquardt.h"
@@ -26,51 +27,79 @@ std::optional<std::set<NodeId>> changedNodes(const PoseGraph& whole,
                                              const std::vector<PoseGraphEdge>& unsolved,
                                              const DeformationGraphOptions& options) {
   if (warm.last_whole.empty()) return std::nullopt;
-  // Per node of `start`: its pose there and in the earlier solution (none: null), its neighbours.
-  struct Node {
-    const Eigen::Isometry3d* now;
-    const Eigen::Isometry3d* then;
-    std::vector<NodeId> neighbours;
-  };
-  std::unordered_map<NodeId, Node> nodes;
-  nodes.reserve(start.size());
+  // Per node of `start`, by its place in id order: its pose there and in the earlier solution
+  // (none: null), its neighbours (those of node i: neighbours[first[i]..first[i + 1])).
+  const size_t n = start.size();
+  std::vector<NodeId> ids;
+  std::vector<const Eigen::Isometry3d*> now, then;
+  ids.reserve(n);
+  now.reserve(n);
+  then.reserve(n);
   AscendingLookup earlier(warm.last_whole);
-  for (const auto& [id, pose] : start) nodes.emplace(id, Node{&pose, earlier.find(id), {}});
-  std::set<NodeId> changed;
+  for (const auto& [id, pose] : start) {
+    ids.push_back(id);
+    now.push_back(&pose);
+    then.push_back(earlier.find(id));
+  }
+  constexpr size_t kAbsent = std::numeric_limits<size_t>::max();
+  const auto indexOf = [&ids](NodeId id) {
+    const auto it = std::lower_bound(ids.begin(), ids.end(), id);
+    return it != ids.end() && *it == id ? size_t(it - ids.begin()) : kAbsent;
+  };
+  std::vector<char> changed(n, 0);
+  std::vector<std::pair<size_t, size_t>> joined;  // the solved factors' ends, both in `start`
+  joined.reserve(whole.edges.size());
   for (size_t k = 0; k < whole.edges.size(); ++k) {
     const PoseGraphEdge& e = whole.edges[k];
     if (left_out[k]) continue;
-    const auto from = nodes.find(e.from), to = nodes.find(e.to);
-    if (from == nodes.end() || to == nodes.end()) continue;
-    Node &a = from->second, &b = to->second;
-    a.neighbours.push_back(e.to);
-    b.neighbours.push_back(e.from);
-    bool moved = a.then == nullptr || b.then == nullptr;
+    const size_t a = indexOf(e.from), b = indexOf(e.to);
+    if (a == kAbsent || b == kAbsent) continue;
+    joined.emplace_back(a, b);
+    bool moved = then[a] == nullptr || then[b] == nullptr;
     if (!moved) {
       const Eigen::Isometry3d delta =
-          (a.then->inverse() * *b.then).inverse() * (a.now->inverse() * *b.now);
+          (then[a]->inverse() * *then[b]).inverse() * (now[a]->inverse() * *now[b]);
       moved = delta.translation().norm() > options.local_move_m ||
               Eigen::AngleAxisd(delta.linear()).angle() > options.local_move_rad;
     }
-    if (moved) {
-      changed.insert(e.from);
-      changed.insert(e.to);
-    }
+    if (moved) changed[a] = changed[b] = 1;
   }
   for (const PoseGraphEdge& e : unsolved) {
-    if (nodes.count(e.from) && nodes.count(e.to)) changed.insert({e.from, e.to});
+    const size_t a = indexOf(e.from), b = indexOf(e.to);
+    if (a != kAbsent && b != kAbsent) changed[a] = changed[b] = 1;
   }
-  std::vector<NodeId> frontier(changed.begin(), changed.end());
+  std::vector<size_t> first(n + 1, 0), neighbours(2 * joined.size());
+  for (const auto& [a, b] : joined) {
+    ++first[a + 1];
+    ++first[b + 1];
+  }
+  for (size_t i = 0; i < n; ++i) first[i + 1] += first[i];
+  std::vector<size_t> next_slot(first.begin(), first.end() - 1);
+  for (const auto& [a, b] : joined) {
+    neighbours[next_slot[a]++] = b;
+    neighbours[next_slot[b]++] = a;
+  }
+  std::vector<size_t> frontier;
+  for (size_t i = 0; i < n; ++i) {
+    if (changed[i]) frontier.push_back(i);
+  }
   for (int hop = 0; hop < options.local_hops && !frontier.empty(); ++hop) {
-    std::vector<NodeId> next;
-    for (const NodeId id : frontier) {
-      for (const NodeId n : nodes.at(id).neighbours) {
-        if (changed.insert(n).second) next.push_back(n);
+    std::vector<size_t> reached;
+    for (const size_t i : frontier) {
+      for (size_t j = first[i]; j < first[i + 1]; ++j) {
+        const size_t other = neighbours[j];
+        if (changed[other]) continue;
+        changed[other] = 1;
+        reached.push_back(other);
       }
     }
-    frontier = std::move(next);
+    frontier = std::move(reached);
   }
-  return changed;
+  std::set<NodeId> result;
+  for (size_t i = 0; i < n; ++i) {
+    if (changed[i]) result.emplace_hint(result.end(), ids[i]);
+  }
+  return result;
 }
 
 // The held-out factors of `candidates` (from, to) that fit `poses` (edgesThatFit) become known
@@ -267,18 +296,39 @@ DeformationResult optimizeDeformationGraph(
   const PoseGraph& whole = graph.graph;
   const std::vector<bool> left_out = leftOut(graph, result.robust_inlier);
   if (warm != nullptr) {
-    // From the earlier whole solution, moved as the skeleton (or the keyframe) moved since.
+    // From the earlier whole solution, moved as the skeleton (or the keyframe) moved since: by
+    // S_now S_then^-1, looked up in id order for a node's own, kept for the last keyframe asked
+    // (a keyframe's control points come in a run).
     AscendingLookup last_whole(warm->last_whole);
     AscendingLookup observed(graph.observed_by);
+    AscendingLookup own_now(result.solve.poses);
+    AscendingLookup own_then(warm->last_skeleton);
+    const auto motion = [](const Eigen::Isometry3d* now, const Eigen::Isometry3d* then) {
+      return now != nullptr && then != nullptr
+                 ? std::optional<Eigen::Isometry3d>(*now * then->inverse())
+                 : std::nullopt;
+    };
+    std::optional<NodeId> keyframe_asked;
+    std::optional<Eigen::Isometry3d> keyframe_motion;
     for (auto& [id, pose] : initial) {
       const Eigen::Isometry3d* then = last_whole.find(id);
       if (then == nullptr) continue;
       const NodeId* keyframe = observed.find(id);
-      const NodeId mover = keyframe == nullptr ? id : *keyframe;
-      const auto now = result.solve.poses.find(mover);
-      const auto skeleton_then = warm->last_skeleton.find(mover);
-      if (now == result.solve.poses.end() || skeleton_then == warm->last_skeleton.end()) continue;
-      pose = now->second * skeleton_then->second.inverse() * *then;
+      std::optional<Eigen::Isometry3d> moved;
+      if (keyframe == nullptr) {
+        moved = motion(own_now.find(id), own_then.find(id));
+      } else {
+        if (keyframe_asked != *keyframe) {
+          keyframe_asked = *keyframe;
+          const auto now = result.solve.poses.find(*keyframe);
+          const auto skeleton_then = warm->last_skeleton.find(*keyframe);
+          keyframe_motion =
+              motion(now == result.solve.poses.end() ? nullptr : &now->second,
+                     skeleton_then == warm->last_skeleton.end() ? nullptr : &skeleton_then->second);
+        }
+        moved = keyframe_motion;
+      }
+      if (moved) pose = *moved * *then;
     }
   }
   RobustPgoOptions plain = wholeGraphSolver(options);

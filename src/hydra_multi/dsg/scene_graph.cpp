@@ -33,6 +33,19 @@ void fuseAttributes(Node& target, const Node& source) {
   }
 }
 
+// A sorted id list: `id` added where it belongs (nearly always at the end), or taken out.
+void insertSorted(std::vector<NodeId>& ids, NodeId id) {
+  if (ids.empty() || ids.back() < id) {
+    ids.push_back(id);
+  } else {
+    ids.insert(std::lower_bound(ids.begin(), ids.end(), id), id);
+  }
+}
+void eraseSorted(std::vector<NodeId>& ids, NodeId id) {
+  const auto it = std::lower_bound(ids.begin(), ids.end(), id);
+  if (it != ids.end() && *it == id) ids.erase(it);
+}
+
 }  // namespace
 
 Placement fusedPlacement(const Placement& target, const Placement& source) {
@@ -67,7 +80,7 @@ bool SceneGraph::addOrUpdateNode(Node node) {
   if (known == index_.end()) {
     const NodeId id = node.id;
     if (const auto robot = node.robot()) {
-      by_robot_[*robot].insert(id);
+      insertSorted(by_robot_[*robot], id);
       by_robot_layer_[{*robot, node.layer()}].insert(id);
     }
     by_layer_[node.layer()].insert(id);
@@ -97,7 +110,7 @@ bool SceneGraph::removeNode(NodeId id) {
   adjacency_.erase(adjacent);
   if (const auto robot = it->second.robot()) {
     const auto of_robot = by_robot_.find(*robot);
-    of_robot->second.erase(id);
+    eraseSorted(of_robot->second, id);
     if (of_robot->second.empty()) by_robot_.erase(of_robot);
     const auto of_layer = by_robot_layer_.find({*robot, it->second.layer()});
     of_layer->second.erase(id);
@@ -211,8 +224,7 @@ std::vector<NodeId> SceneGraph::nodesInLayer(Layer layer) const {
 
 std::vector<NodeId> SceneGraph::nodesOfRobot(RobotId robot) const {
   const auto it = by_robot_.find(robot);
-  if (it == by_robot_.end()) return {};
-  return {it->second.begin(), it->second.end()};
+  return it == by_robot_.end() ? std::vector<NodeId>() : it->second;
 }
 
 std::vector<NodeId> SceneGraph::nodesOfRobot(RobotId robot, Layer layer) const {

@@ -114,8 +114,9 @@ class SceneGraph {
   std::map<EdgeKey, EdgeAttributes> edges_;
   std::unordered_map<NodeId, std::set<NodeId>> adjacency_;
   // Node ids by robot and by layer (a node's id and layer never change): nodesOfRobot and
-  // nodesInLayer without a pass over every node.
-  std::map<RobotId, std::set<NodeId>> by_robot_;
+  // nodesInLayer without a pass over every node. A robot's ids in one sorted array, copied out at
+  // once (an id added or removed moves the larger ones of its robot).
+  std::map<RobotId, std::vector<NodeId>> by_robot_;
   std::map<std::pair<RobotId, Layer>, std::set<NodeId>> by_robot_layer_;
   std::map<Layer, std::set<NodeId>> by_layer_;
   Mesh mesh_;

@@ -273,7 +273,7 @@ std::map<NodeId, Eigen::Isometry3d> PoseGraphProblem::poses() const {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.linear() = impl_->blocks[i].q.normalized().toRotationMatrix();
     T.translation() = impl_->blocks[i].t;
-    result[impl_->ids[i]] = T;
+    result.emplace_hint(result.end(), impl_->ids[i], T);  // ids ascend (the constructor's map)
   }
   return result;
 }
