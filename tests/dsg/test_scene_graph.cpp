@@ -151,6 +151,9 @@ TEST(SceneGraph, RobotAndLayerQueriesFollowEveryChange) {
     for (const char prefix : {'a', 'b', 'c'}) {
       const RobotId robot = *RobotId::fromPrefix(prefix);
       EXPECT_EQ(g.nodesOfRobot(robot), of_robot[robot]) << prefix;
+      std::vector<const Node*> own;  // the graph's own nodes (a copy's never the original's)
+      for (const NodeId id : of_robot[robot]) own.push_back(&g.nodes().at(id));
+      EXPECT_EQ(g.robotNodes(robot), own) << prefix;
       for (const Layer layer : kAllLayers) {
         EXPECT_EQ(g.nodesOfRobot(robot, layer), (of_robot_in_layer[{robot, layer}]))
             << prefix << " " << layerName(layer);

@@ -32,12 +32,13 @@ SolvedNodes solvedNodes(const SceneGraph& frontend,
     std::vector<int64_t> keyframe_times;
     std::vector<Eigen::Isometry3d> motion;  // optimized * initial^-1, per keyframe
     std::vector<NodeId> objects;
-    for (const NodeId id : frontend.nodesOfRobot(robot)) {
-      const Layer layer = frontend.getNode(id).layer();
+    for (const Node* node : frontend.robotNodes(robot)) {
+      const NodeId id = node->id;
+      const Layer layer = node->layer();
       const auto solved_pose = solved.poses.find(id);
       if (layer == Layer::kAgents && solved_pose != solved.poses.end()) {
         keyframe_positions.push_back(graph.initial.at(id).translation());
-        keyframe_times.push_back(frontend.getNode(id).find<AgentAttributes>()->timestamp_ns);
+        keyframe_times.push_back(node->find<AgentAttributes>()->timestamp_ns);
         motion.push_back(solved_pose->second * graph.initial.at(id).inverse());
       } else if (layer == Layer::kPlaces && solved_pose != solved.poses.end()) {
         positions[id] = solved_pose->second.translation();

@@ -131,8 +131,9 @@ DeformationGraph buildDeformationGraph(const SceneGraph& frontend,
     std::vector<NodeId> places;
     NodeId first;
     int64_t first_time = std::numeric_limits<int64_t>::max();
-    for (const NodeId id : frontend.nodesOfRobot(input.robot)) {
-      const Node& node = frontend.getNode(id);
+    for (const Node* robot_node : frontend.robotNodes(input.robot)) {
+      const Node& node = *robot_node;
+      const NodeId id = node.id;
       if (node.layer() == Layer::kAgents) {
         const Eigen::Isometry3d local = nodePose(node);
         const int64_t t = node.find<AgentAttributes>()->timestamp_ns;

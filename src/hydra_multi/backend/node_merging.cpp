@@ -12,8 +12,8 @@ MergeSideFinder::MergeSideFinder(const SceneGraph& frontend, RobotId robot, cons
     : frontend_(frontend), robot_(robot), mesh_(mesh) {
   std::vector<Eigen::Vector3d> positions;
   std::vector<int64_t> times;
-  for (const NodeId id : frontend.nodesOfRobot(robot)) {
-    const Node& node = frontend.getNode(id);
+  for (const Node* robot_node : frontend.robotNodes(robot)) {
+    const Node& node = *robot_node;
     if (node.layer() != Layer::kAgents || node.find<AgentAttributes>() == nullptr) continue;
     keyframes_.push_back(&node);
     positions.push_back(node.position);

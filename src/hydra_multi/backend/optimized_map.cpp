@@ -29,8 +29,8 @@ SceneGraph unplacedMap(const SceneGraph& frontend,
       }
     }
     const bool posed = !frontend.nodesOfRobot(robot.robot, Layer::kAgents).empty();
-    for (const NodeId id : frontend.nodesOfRobot(robot.robot)) {
-      const Node& node = frontend.getNode(id);
+    for (const Node* robot_node : frontend.robotNodes(robot.robot)) {
+      const Node& node = *robot_node;
       if (node.layer() == Layer::kAgents || node.layer() == Layer::kPlaces) {
         if (posed) graph.addOrUpdateNode(node);
       } else if (node.find<ObjectAttributes>() != nullptr) {
@@ -101,7 +101,8 @@ void placeMap(SceneGraph& map, const SceneGraph& frontend,
     for (const Eigen::Isometry3d& c : cp_initial) cp_centres.push_back(c.translation());
     const TimedNeighbors near_cp(cp_centres, cp_times, windowNs(options.link_max_dt_s));
     int64_t first_time = std::numeric_limits<int64_t>::max();
-    for (const NodeId id : frontend.nodesOfRobot(robot.robot)) {
+    for (const Node* robot_node : frontend.robotNodes(robot.robot)) {
+      const NodeId id = robot_node->id;
       Node* placed = map.findMutableNode(id);
       Placement* record = nullptr;
       if (placements != nullptr) {
@@ -109,7 +110,7 @@ void placeMap(SceneGraph& map, const SceneGraph& frontend,
         if (it != placements->end()) record = &it->second;
       }
       if (placed == nullptr && record == nullptr) continue;  // rooms, buildings, nodes not solved
-      const Node& node = frontend.getNode(id);
+      const Node& node = *robot_node;
       if (node.layer() == Layer::kAgents || node.layer() == Layer::kPlaces) {
         const auto pose = poses.find(id);
         if (pose == poses.end()) {

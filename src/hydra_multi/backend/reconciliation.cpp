@@ -102,8 +102,9 @@ std::vector<MergeCandidate> proposeMerges(
     const ReconciliationOptions& options, const std::map<NodeId, Eigen::Vector3d>* optimized) {
   std::vector<Item> places, objects;
   for (const auto& [robot, T] : T_global_robot) {
-    for (const NodeId id : frontend.nodesOfRobot(robot)) {
-      const Node& node = frontend.getNode(id);
+    for (const Node* robot_node : frontend.robotNodes(robot)) {
+      const Node& node = *robot_node;
+      const NodeId id = node.id;
       const Eigen::Vector3d p = globalPosition(id, T * node.position, optimized);
       if (node.layer() == Layer::kPlaces) places.push_back({id, robot, p, &node});
       if (node.layer() == Layer::kObjects) objects.push_back({id, robot, p, &node});

@@ -46,9 +46,9 @@ void RoundMemory::remember(const SceneGraph& frontend, const DeformationGraph& g
   std::map<RobotId, std::vector<std::pair<int64_t, NodeId>>> keyframes;
   for (const auto& [robot, T] : T_global_robot) {
     auto& stamped = keyframes[robot];
-    for (const NodeId id : frontend.nodesOfRobot(robot)) {
-      if (const AgentAttributes* agent = frontend.getNode(id).find<AgentAttributes>())
-        stamped.emplace_back(agent->timestamp_ns, id);
+    for (const Node* node : frontend.robotNodes(robot)) {
+      if (const AgentAttributes* agent = node->find<AgentAttributes>())
+        stamped.emplace_back(agent->timestamp_ns, node->id);
     }
     std::sort(stamped.rbegin(), stamped.rend());
   }

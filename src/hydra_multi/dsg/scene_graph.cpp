@@ -33,17 +33,20 @@ void fuseAttributes(Node& target, const Node& source) {
   }
 }
 
-// A sorted id list: `id` added where it belongs (nearly always at the end), or taken out.
-void insertSorted(std::vector<NodeId>& ids, NodeId id) {
-  if (ids.empty() || ids.back() < id) {
-    ids.push_back(id);
+// A robot's nodes sorted by id: `node` added where it belongs (nearly always at the end of its
+// category), or the node `id` taken out.
+using RobotNodes = std::vector<std::pair<NodeId, Node*>>;
+bool idBelow(const std::pair<NodeId, Node*>& entry, NodeId id) { return entry.first < id; }
+void insertSorted(RobotNodes& nodes, Node* node) {
+  if (nodes.empty() || nodes.back().first < node->id) {
+    nodes.emplace_back(node->id, node);
   } else {
-    ids.insert(std::lower_bound(ids.begin(), ids.end(), id), id);
+    nodes.insert(std::lower_bound(nodes.begin(), nodes.end(), node->id, idBelow), {node->id, node});
   }
 }
-void eraseSorted(std::vector<NodeId>& ids, NodeId id) {
-  const auto it = std::lower_bound(ids.begin(), ids.end(), id);
-  if (it != ids.end() && *it == id) ids.erase(it);
+void eraseSorted(RobotNodes& nodes, NodeId id) {
+  const auto it = std::lower_bound(nodes.begin(), nodes.end(), id, idBelow);
+  if (it != nodes.end() && it->first == id) nodes.erase(it);
 }
 
 }  // namespace
@@ -68,6 +71,9 @@ SceneGraph::SceneGraph(const SceneGraph& other)
       mesh_(other.mesh_) {
   index_.reserve(nodes_.size());
   for (auto& [id, node] : nodes_) index_.emplace(id, &node);
+  for (auto& [robot, nodes] : by_robot_) {
+    for (auto& [id, node] : nodes) node = index_.at(id);  // this graph's own
+  }
 }
 
 SceneGraph& SceneGraph::operator=(const SceneGraph& other) {
@@ -79,12 +85,12 @@ bool SceneGraph::addOrUpdateNode(Node node) {
   const auto known = index_.find(node.id);
   if (known == index_.end()) {
     const NodeId id = node.id;
-    if (const auto robot = node.robot()) {
-      insertSorted(by_robot_[*robot], id);
-      by_robot_layer_[{*robot, node.layer()}].insert(id);
-    }
-    by_layer_[node.layer()].insert(id);
     Node& added = nodes_.emplace(id, std::move(node)).first->second;
+    if (const auto robot = added.robot()) {
+      insertSorted(by_robot_[*robot], &added);
+      by_robot_layer_[{*robot, added.layer()}].insert(id);
+    }
+    by_layer_[added.layer()].insert(id);
     index_.emplace(id, &added);
     adjacency_[id];
     return true;
@@ -223,8 +229,21 @@ std::vector<NodeId> SceneGraph::nodesInLayer(Layer layer) const {
 }
 
 std::vector<NodeId> SceneGraph::nodesOfRobot(RobotId robot) const {
-  const auto it = by_robot_.find(robot);
-  return it == by_robot_.end() ? std::vector<NodeId>() : it->second;
+  std::vector<NodeId> ids;
+  if (const auto it = by_robot_.find(robot); it != by_robot_.end()) {
+    ids.reserve(it->second.size());
+    for (const auto& [id, node] : it->second) ids.push_back(id);
+  }
+  return ids;
+}
+
+std::vector<const Node*> SceneGraph::robotNodes(RobotId robot) const {
+  std::vector<const Node*> nodes;
+  if (const auto it = by_robot_.find(robot); it != by_robot_.end()) {
+    nodes.reserve(it->second.size());
+    for (const auto& [id, node] : it->second) nodes.push_back(node);
+  }
+  return nodes;
 }
 
 std::vector<NodeId> SceneGraph::nodesOfRobot(RobotId robot, Layer layer) const {

@@ -76,6 +76,8 @@ class SceneGraph {
   std::vector<NodeId> nodesInLayer(Layer layer) const;
   /// Nodes of a robot: its agent poses, and station nodes whose source it is.
   std::vector<NodeId> nodesOfRobot(RobotId robot) const;
+  /// The same nodes, in the same order (valid while they stay in the graph).
+  std::vector<const Node*> robotNodes(RobotId robot) const;
   /// Those of them in one layer.
   std::vector<NodeId> nodesOfRobot(RobotId robot, Layer layer) const;
   /// Robots that own a node or a mesh vertex, in order.
@@ -114,9 +116,10 @@ class SceneGraph {
   std::map<EdgeKey, EdgeAttributes> edges_;
   std::unordered_map<NodeId, std::set<NodeId>> adjacency_;
   // Node ids by robot and by layer (a node's id and layer never change): nodesOfRobot and
-  // nodesInLayer without a pass over every node. A robot's ids in one sorted array, copied out at
-  // once (an id added or removed moves the larger ones of its robot).
-  std::map<RobotId, std::vector<NodeId>> by_robot_;
+  // nodesInLayer without a pass over every node. A robot's nodes in one array sorted by id, copied
+  // out at once (a node added or removed moves the larger ones of its robot); a copy re-points
+  // them at its own nodes.
+  std::map<RobotId, std::vector<std::pair<NodeId, Node*>>> by_robot_;
   std::map<std::pair<RobotId, Layer>, std::set<NodeId>> by_robot_layer_;
   std::map<Layer, std::set<NodeId>> by_layer_;
   Mesh mesh_;
