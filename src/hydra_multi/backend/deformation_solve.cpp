@@ -102,6 +102,12 @@ std::optional<std::set<NodeId>> changedNodes(const PoseGraph& whole,
   return result;
 }
 
+// The pose of `id` in `poses`, or null.
+const Eigen::Isometry3d* poseIn(const std::map<NodeId, Eigen::Isometry3d>& poses, NodeId id) {
+  const auto it = poses.find(id);
+  return it == poses.end() ? nullptr : &it->second;
+}
+
 // The held-out factors of `candidates` (from, to) that fit `poses` (edgesThatFit) become known
 // inliers of `solver`; returns how many.
 size_t admitFitting(const PoseGraph& graph, const std::map<NodeId, Eigen::Isometry3d>& poses,
@@ -320,11 +326,8 @@ DeformationResult optimizeDeformationGraph(
       } else {
         if (keyframe_asked != *keyframe) {
           keyframe_asked = *keyframe;
-          const auto now = result.solve.poses.find(*keyframe);
-          const auto skeleton_then = warm->last_skeleton.find(*keyframe);
           keyframe_motion =
-              motion(now == result.solve.poses.end() ? nullptr : &now->second,
-                     skeleton_then == warm->last_skeleton.end() ? nullptr : &skeleton_then->second);
+              motion(poseIn(result.solve.poses, *keyframe), poseIn(warm->last_skeleton, *keyframe));
         }
         moved = keyframe_motion;
       }
