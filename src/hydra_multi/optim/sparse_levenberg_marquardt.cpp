@@ -257,8 +257,7 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
       if (m.permuted[k] != kNone) rhs[m.permuted[k]] = rhs_of[static_cast<Eigen::Index>(k)];
     }
     const auto factorization_start = std::chrono::steady_clock::now();
-    const bool positive =
-        eliminated && cholmod_l_factorize(m.H, m.L, &m.common) && m.common.status == CHOLMOD_OK;
+    const bool positive = eliminated && m.factorize(options.threads);
     summary.factorization_s +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - factorization_start)
             .count();

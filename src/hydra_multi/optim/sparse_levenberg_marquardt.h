@@ -15,7 +15,8 @@
 // assembled in that order, so CHOLMOD factors it as stored, without permuting it per
 // factorization. Before it does, each step eliminates the poses joined to at most two others
 // (chains and leaves, one by one, each joining its neighbours), H_uw -= H_uv D_v^-1 H_vw, and
-// substitutes their steps back after: CHOLMOD factors the rest, with far fewer supernodes.
+// substitutes their steps back after: CHOLMOD factors the rest, with far fewer supernodes (a
+// supernodal factor numerically by supernodal_cholesky.h, the same factor on up to two threads).
 
 #include <Eigen/Geometry>
 #include <memory>
@@ -52,9 +53,10 @@ struct LmOptions {
   double function_tolerance = 1e-4;
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-10;
-  /// Threads that linearize and evaluate the cost (from 4,096 terms; fewer: one). Each block of
-  /// H, segment of g and term's cost is summed by one thread in term order: the steps are those
-  /// of one thread to the bit.
+  /// Threads that linearize and evaluate the cost (from 4,096 terms; fewer: one), and that
+  /// factorize a supernodal factor (two at most; supernodal_cholesky.h). Each block of H, segment
+  /// of g and term's cost is summed by one thread in term order, and the factor is the one of one
+  /// thread: the steps are those of one thread to the bit.
   int threads = 1;
 };
 
@@ -64,7 +66,7 @@ struct LmSummary {
   int iterations = 0;  ///< steps tried, taken or not
   double initial_cost = 0.0, final_cost = 0.0;
   double time_s = 0.0;
-  double factorization_s = 0.0;  ///< of time_s: CHOLMOD's numeric factorizations
+  double factorization_s = 0.0;  ///< of time_s: the numeric factorizations
 };
 
 class SparseAnalyses;

@@ -263,6 +263,7 @@ void SparseLevenbergMarquardt::Impl::analyze(size_t num_poses, const std::vector
   m.common.method[0].ordering = CHOLMOD_NATURAL;
   m.L = cholmod_l_analyze(m.H, &m.common);
   if (m.L != nullptr) m.flops = m.common.fl + elimination_flops;
+  if (m.L != nullptr && m.L->is_super) m.supernodal = std::make_unique<SupernodalCholesky>(*m.L);
   if (m.L != nullptr && !m.L->is_super) {
     cholmod_l_free_sparse(&m.H, &m.common);
     m.H = store(position, 1, true);
@@ -279,6 +280,18 @@ void SparseLevenbergMarquardt::Impl::allocateFactor() {
   if (!cholmod_l_change_factor(CHOLMOD_REAL, true, true, true, true, L, &common) || L->x == nullptr)
     return;
   std::memset(L->x, 0, L->xsize * sizeof(double));
+}
+
+bool SparseLevenbergMarquardt::Impl::factorize(int threads) {
+  if (supernodal == nullptr)
+    return cholmod_l_factorize(H, L, &common) && common.status == CHOLMOD_OK;
+  if (L->xtype == CHOLMOD_PATTERN &&
+      (!cholmod_l_change_factor(CHOLMOD_REAL, true, true, true, true, L, &common) ||
+       L->x == nullptr))
+    return false;
+  if (!supernodal->factorize(*H, *L, threads)) return false;
+  L->minor = L->n;
+  return true;
 }
 
 void SparseLevenbergMarquardt::Impl::freeFactorValues() {

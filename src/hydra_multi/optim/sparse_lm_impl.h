@@ -9,9 +9,11 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "hydra_multi/optim/sparse_levenberg_marquardt.h"
+#include "hydra_multi/optim/supernodal_cholesky.h"
 
 namespace hydra_multi {
 namespace sparse_lm {
@@ -101,6 +103,8 @@ struct SparseLevenbergMarquardt::Impl {
   cholmod_common common;
   cholmod_sparse* H = nullptr;
   cholmod_factor* L = nullptr;
+  // A supernodal L's numeric factorization, ours in place of CHOLMOD's (the same factor).
+  std::unique_ptr<SupernodalCholesky> supernodal;
   double flops = 0.0;  // of one factorization, from the analysis
   // Where the analysis goes when the solver ends; the terms then keep only their poses, which
   // the pattern is (their costs end with their problem).
@@ -177,6 +181,10 @@ struct SparseLevenbergMarquardt::Impl {
   void allocateFactor();
   // L's numeric values freed, its symbolic factorization kept (a supernodal L that has them).
   void freeFactorValues();
+  // L <- the factor of A (H as eliminated and damped): a supernodal L by `supernodal` on
+  // `threads` threads, its values allocated first where it has none; a simplicial L by CHOLMOD.
+  // False where A is not positive definite.
+  bool factorize(int threads);
 
   // The eliminations on the damped H and the right-hand side `rhs` (-g, per variable), in order:
   // H_uw -= H_uv D_v^-1 H_vw and rhs_u -= H_uv D_v^-1 rhs_v for the neighbours u, w of v, through

@@ -1,0 +1,264 @@
+#include "hydra_multi/optim/supernodal_cholesky.h"
+
+#include <dlfcn.h>
+
+#include <algorithm>
+#include <cstring>
+#include <mutex>
+#include <thread>
+
+extern "C" {
+// BLAS and LAPACK (Fortran symbols, 32-bit integers), as CHOLMOD calls them.
+void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
+            const double* a, const int* lda, const double* beta, double* c, const int* ldc);
+void dgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k,
+            const double* alpha, const double* a, const int* lda, const double* b, const int* ldb,
+            const double* beta, double* c, const int* ldc);
+void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info);
+void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m,
+            const int* n, const double* alpha, const double* a, const int* lda, double* b,
+            const int* ldb);
+}
+
+namespace hydra_multi {
+namespace {
+
+// Below this many flops a factorization stays on one thread: starting the second costs more.
+constexpr double kTwoThreadsFrom = 2e7;
+// The cut is kept only where its longer part is at most this share of the whole.
+constexpr double kSplitShare = 0.9;
+// Subtrees the cut may move into its top part, heaviest first.
+constexpr int kCutSteps = 32;
+
+std::mutex& blasBufferMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+}  // namespace
+
+SupernodalCholesky::SupernodalCholesky(const cholmod_factor& symbolic) {
+  const Int supernodes = static_cast<Int>(symbolic.nsuper);
+  const auto* super = static_cast<const Int*>(symbolic.super);
+  const auto* pi = static_cast<const Int*>(symbolic.pi);
+  const auto* rows = static_cast<const Int*>(symbolic.s);
+  owner_.resize(symbolic.n);
+  for (Int s = 0; s < supernodes; ++s) {
+    for (Int k = super[s]; k < super[s + 1]; ++k) owner_[k] = s;
+  }
+  // Work per supernode: its own dpotrf and dtrsm, and the updates it takes from its descendants.
+  std::vector<Int> parent(supernodes, -1);
+  std::vector<double> work(supernodes, 0.0);
+  for (Int d = 0; d < supernodes; ++d) {
+    const double columns = double(super[d + 1] - super[d]);
+    const Int end = pi[d + 1];
+    max_rows_ = std::max<size_t>(max_rows_, end - pi[d]);
+    work[d] += columns * columns * columns / 3.0 + columns * columns * double(end - pi[d]);
+    Int p = pi[d] + (super[d + 1] - super[d]);
+    if (p < end) parent[d] = owner_[rows[p]];
+    while (p < end) {
+      const Int s = owner_[rows[p]];
+      Int q = p;
+      while (q < end && owner_[rows[q]] == s) ++q;
+      const double in_s = double(q - p), below = double(end - p);
+      max_update_ = std::max<size_t>(max_update_, size_t(in_s * below));
+      work[s] += 2.0 * columns * in_s * below;
+      p = q;
+    }
+  }
+  for (const double w : work) total_flops_ += w;
+
+  // The cut: subtrees in two sets, balanced largest first, below a top part that grows by the
+  // heaviest subtree while that shortens the longer part.
+  std::vector<double> subtree(work);
+  std::vector<std::vector<Int>> children(supernodes);
+  std::vector<Int> frontier, top, best_top;
+  for (Int s = 0; s < supernodes; ++s) {  // a parent comes after its children
+    if (parent[s] >= 0) {
+      subtree[parent[s]] += subtree[s];
+      children[parent[s]].push_back(s);
+    } else {
+      frontier.push_back(s);
+    }
+  }
+  std::vector<Int> best_sets[2];
+  double top_work = 0.0, best_span = total_flops_ + 1.0;
+  for (int step = 0; step < kCutSteps && !frontier.empty(); ++step) {
+    std::sort(frontier.begin(), frontier.end(), [&](Int a, Int b) {
+      return subtree[a] > subtree[b] || (subtree[a] == subtree[b] && a < b);
+    });
+    double load[2] = {0.0, 0.0};
+    std::vector<Int> sets[2];
+    for (const Int s : frontier) {
+      const int to = load[1] < load[0] ? 1 : 0;
+      load[to] += subtree[s];
+      sets[to].push_back(s);
+    }
+    const double span = top_work + std::max(load[0], load[1]);
+    if (span < best_span) {
+      best_span = span;
+      best_top = top;
+      best_sets[0] = sets[0];
+      best_sets[1] = sets[1];
+    }
+    const Int heaviest = frontier.front();
+    if (children[heaviest].empty()) break;
+    frontier.erase(frontier.begin());
+    frontier.insert(frontier.end(), children[heaviest].begin(), children[heaviest].end());
+    top.push_back(heaviest);
+    top_work += work[heaviest];
+  }
+  two_threads_ = total_flops_ >= kTwoThreadsFrom && !best_sets[0].empty() &&
+                 !best_sets[1].empty() && best_span <= kSplitShare * total_flops_;
+  part_.assign(supernodes, two_threads_ ? -1 : 0);
+  if (two_threads_) {
+    for (const Int s : best_top) part_[s] = 2;
+    for (int set = 0; set < 2; ++set) {
+      for (const Int s : best_sets[set]) part_[s] = static_cast<int8_t>(set);
+    }
+    for (Int s = supernodes - 1; s >= 0; --s) {
+      if (part_[s] < 0) part_[s] = part_[parent[s]];
+    }
+  }
+  next_.assign(supernodes, -1);
+  lpos_.assign(supernodes, 0);
+  linked_.assign(supernodes, Linked{});
+}
+
+bool SupernodalCholesky::factorize(const cholmod_sparse& A, cholmod_factor& L, int threads) {
+  const size_t supernodes = L.nsuper;
+  for (Workspace& work : work_) {
+    if (!work.map.empty()) continue;
+    work.map.assign(L.n, 0);
+    work.relative.assign(max_rows_, 0);
+    work.update.assign(std::max<size_t>(max_update_, 1), 0.0);
+    if (!two_threads_) break;
+  }
+  std::vector<Int> head(supernodes, -1);
+  if (threads < 2 || !two_threads_) return factorPart(A, L, -1, false, head, work_[0]);
+  std::vector<Int> head_1(supernodes, -1);
+  bool done_1 = false;
+  {
+    std::thread second([&] { done_1 = factorPart(A, L, 1, false, head_1, work_[1]); });
+    const bool done_0 = factorPart(A, L, 0, false, head, work_[0]);
+    second.join();
+    if (!done_0 || !done_1) return false;
+  }
+  // The top part's lists: the second thread's after the first's, reordered as they are taken.
+  for (size_t s = 0; s < supernodes; ++s) {
+    if (part_[s] != 2 || head_1[s] < 0) continue;
+    if (head[s] < 0) {
+      head[s] = head_1[s];
+      continue;
+    }
+    Int tail = head[s];
+    while (next_[tail] >= 0) tail = next_[tail];
+    next_[tail] = head_1[s];
+  }
+  return factorPart(A, L, 2, true, head, work_[0]);
+}
+
+bool SupernodalCholesky::factorPart(const cholmod_sparse& A, cholmod_factor& L, int part,
+                                    bool order_lists, std::vector<Int>& head, Workspace& work) {
+  const Int supernodes = static_cast<Int>(L.nsuper);
+  const auto* super = static_cast<const Int*>(L.super);
+  const auto* pi = static_cast<const Int*>(L.pi);
+  const auto* px = static_cast<const Int*>(L.px);
+  const auto* rows = static_cast<const Int*>(L.s);
+  auto* Lx = static_cast<double*>(L.x);
+  const auto* Ap = static_cast<const Int*>(A.p);
+  const auto* Anz = static_cast<const Int*>(A.nz);
+  const auto* Ai = static_cast<const Int*>(A.i);
+  const auto* Ax = static_cast<const double*>(A.x);
+  const double one = 1.0, zero = 0.0;
+  std::vector<Int> descendants;
+  for (Int s = 0; s < supernodes; ++s) {
+    if (part >= 0 && part_[s] != part) continue;
+    const Int k1 = super[s], k2 = super[s + 1], columns = k2 - k1;
+    const Int first_row = pi[s], height = pi[s + 1] - first_row;
+    for (Int k = 0; k < height; ++k) work.map[rows[first_row + k]] = k;
+    double* Ls = Lx + px[s];
+    std::memset(Ls, 0, sizeof(double) * static_cast<size_t>(height * columns));
+    for (Int j = k1; j < k2; ++j) {
+      double* column = Ls + (j - k1) * height;
+      const Int end = A.packed ? Ap[j + 1] : Ap[j] + Anz[j];
+      for (Int q = Ap[j]; q < end; ++q) {
+        if (Ai[q] >= j) column[work.map[Ai[q]]] = Ax[q];
+      }
+    }
+    descendants.clear();
+    for (Int d = head[s]; d >= 0; d = next_[d]) descendants.push_back(d);
+    head[s] = -1;
+    if (order_lists) {  // as one thread would have put them: the latest first
+      std::sort(descendants.begin(), descendants.end(), [&](Int a, Int b) {
+        return linked_[a].at > linked_[b].at ||
+               (linked_[a].at == linked_[b].at && linked_[a].nth > linked_[b].nth);
+      });
+    }
+    int64_t nth = 0;
+    const auto link = [&](Int d, Int row_at) {
+      const Int to = owner_[rows[row_at]];
+      next_[d] = head[to];
+      head[to] = d;
+      linked_[d] = Linked{s, nth++};
+    };
+    for (const Int d : descendants) {
+      const Int d_first = pi[d], d_height = pi[d + 1] - d_first;
+      const Int p1 = d_first + lpos_[d];
+      Int p2 = p1;
+      while (p2 < d_first + d_height && rows[p2] < k2) ++p2;
+      const int in_s = static_cast<int>(p2 - p1);
+      const int below = static_cast<int>(d_first + d_height - p1);
+      const int after_s = below - in_s;
+      const int d_columns = static_cast<int>(super[d + 1] - super[d]);
+      const int ld = static_cast<int>(d_height);
+      const double* Ld = Lx + px[d] + lpos_[d];
+      double* C = work.update.data();
+      dsyrk_("L", "N", &in_s, &d_columns, &one, Ld, &ld, &zero, C, &below);
+      if (after_s > 0) {
+        dgemm_("N", "C", &after_s, &in_s, &d_columns, &one, Ld + in_s, &ld, Ld, &ld, &zero,
+               C + in_s, &below);
+      }
+      for (int i = 0; i < below; ++i) work.relative[i] = work.map[rows[p1 + i]];
+      for (int j = 0; j < in_s; ++j) {
+        double* column = Ls + work.relative[j] * height;
+        const double* c = C + static_cast<ptrdiff_t>(j) * below;
+        for (int i = j; i < below; ++i) column[work.relative[i]] -= c[i];
+      }
+      lpos_[d] = p2 - d_first;
+      if (lpos_[d] < d_height) link(d, p2);
+    }
+    const int n = static_cast<int>(columns), ld = static_cast<int>(height);
+    int info = 0;
+    dpotrf_("L", &n, Ls, &ld, &info);
+    if (info != 0) return false;
+    if (height > columns) {
+      const int m = static_cast<int>(height - columns);
+      dtrsm_("R", "L", "C", "N", &m, &n, &one, Ls, &ld, Ls + columns, &ld);
+      lpos_[s] = columns;
+      link(s, first_row + columns);
+    }
+  }
+  return true;
+}
+
+}  // namespace hydra_multi
+
+// OpenBLAS's work buffers (its internal allocator, which every level-3 and LAPACK call of its
+// takes through the PLT): taken under one lock, since Debian's serial build takes them unlocked.
+// The executables export these two (optim's link options). Without OpenBLAS nothing calls them.
+extern "C" void* blas_memory_alloc(int procpos) {
+  using Alloc = void* (*)(int);
+  static const Alloc next = reinterpret_cast<Alloc>(dlsym(RTLD_NEXT, "blas_memory_alloc"));
+  if (next == nullptr) return nullptr;
+  const std::lock_guard<std::mutex> lock(hydra_multi::blasBufferMutex());
+  return next(procpos);
+}
+
+extern "C" void blas_memory_free(void* area) {
+  using Free = void (*)(void*);
+  static const Free next = reinterpret_cast<Free>(dlsym(RTLD_NEXT, "blas_memory_free"));
+  if (next == nullptr) return;
+  const std::lock_guard<std::mutex> lock(hydra_multi::blasBufferMutex());
+  next(area);
+}

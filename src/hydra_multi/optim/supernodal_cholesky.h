@@ -1,0 +1,64 @@
+#pragma once
+// The numeric supernodal Cholesky factorization A = L L^T on CHOLMOD's symbolic supernodal factor
+// of A (A stored as its lower triangle in the factor's own order: no permutation), left-looking
+// as CHOLMOD's (cholmod_super_numeric): per supernode s, in column order, A's columns scattered
+// in, the update L_d(rows >= s) L_d(rows of s)^T of each descendant d with rows in s subtracted
+// (dsyrk, dgemm), then L_ss = chol(.) (dpotrf) and the rows below it solved (dtrsm).
+// On two threads the supernodal elimination tree is cut into a top part and disjoint subtrees in
+// two sets of about equal work (a flop count per supernode, updates included); each set is
+// factorized on its own thread, the top part after both. Every supernode takes its descendants
+// in the order one thread takes them, so the factor is the same to the bit on one thread or two,
+// and the same as CHOLMOD's.
+// Debian's serial OpenBLAS does not lock its pool of work buffers for callers on several
+// threads; while a factorization runs on two, each buffer is taken under a lock (its
+// blas_memory_alloc, interposed), so two dense calls never share one.
+
+#include <cholmod.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace hydra_multi {
+
+class SupernodalCholesky {
+ public:
+  /// The plan for `symbolic` (supernodal, in its natural order): its tree, a flop count per
+  /// supernode and the cut for two threads.
+  explicit SupernodalCholesky(const cholmod_factor& symbolic);
+
+  /// L <- the factor of A, on `threads` threads (two at most; one where the cut gains little).
+  /// L: the factor the plan was made for, its numeric values allocated (real, supernodal LL').
+  /// False where A is not positive definite (a pivot not above zero); L is then unusable.
+  bool factorize(const cholmod_sparse& A, cholmod_factor& L, int threads);
+
+  /// Whether two threads would split the work: the cut's longer part (a thread's subtrees
+  /// plus the top part) against the whole, by the flop count.
+  bool splits() const { return two_threads_; }
+  double flops() const { return total_flops_; }
+
+ private:
+  using Int = SuiteSparse_long;
+  struct Workspace {
+    std::vector<Int> map, relative;
+    std::vector<double> update;
+  };
+  // When a descendant was put on its next supernode's list: while supernode `at` was done, as
+  // the `nth` put then. One thread's lists hold their descendants in descending order of it.
+  struct Linked {
+    Int at = -1;
+    int64_t nth = 0;
+  };
+  bool factorPart(const cholmod_sparse& A, cholmod_factor& L, int part, bool order_lists,
+                  std::vector<Int>& head, Workspace& work);
+
+  std::vector<Int> owner_;    // column -> its supernode
+  std::vector<int8_t> part_;  // supernode -> 0 or 1 (a thread's subtrees) or 2 (the top part)
+  size_t max_rows_ = 0, max_update_ = 0;
+  double total_flops_ = 0.0;
+  bool two_threads_ = false;
+  std::vector<Int> next_, lpos_;
+  std::vector<Linked> linked_;
+  Workspace work_[2];
+};
+
+}  // namespace hydra_multi

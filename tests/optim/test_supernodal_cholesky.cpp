@@ -1,0 +1,163 @@
+#include "hydra_multi/optim/supernodal_cholesky.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <map>
+#include <random>
+#include <utility>
+#include <vector>
+
+#include "hydra_multi/optim/fill_reducing_ordering.h"
+#include "hydra_multi/optim/io/g2o_format.h"
+#include "support/random_graphs.h"
+
+namespace hydra_multi {
+namespace {
+
+// A symmetric positive definite matrix of 6x6 blocks on the pattern of a real pose graph
+// (sphere2500: 2,500 poses), each edge adding w [I -I; -I I] (w random), each pose w I; stored as
+// its lower triangle in a fill-reducing order (fill_reducing_ordering.h), analyzed supernodally
+// in that order as the solver's analysis does.
+class SupernodalCholeskyTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    cholmod_l_start(&common_);
+    auto g2o = io::readG2o(testing::dataDir() + "/pgo/sphere2500.g2o");
+    ASSERT_TRUE(g2o.ok()) << g2o.error();
+    std::map<NodeId, long> index;
+    for (const auto& [id, pose] : g2o.value().graph.poses)
+      index.emplace(id, static_cast<long>(index.size()));
+    const long poses = static_cast<long>(index.size());
+    std::mt19937 random(7);
+    std::uniform_real_distribution<double> weight(1.0, 10.0);
+    // Per block (row >= column, in pose numbers), its weight times I.
+    std::map<std::pair<long, long>, double> blocks;
+    for (long p = 0; p < poses; ++p) blocks[{p, p}] += weight(random);
+    for (const PoseGraphEdge& e : g2o.value().graph.edges) {
+      const long a = index.at(e.from), b = index.at(e.to);
+      if (a == b) continue;
+      const double w = weight(random);
+      blocks[{a, a}] += w;
+      blocks[{b, b}] += w;
+      blocks[{std::max(a, b), std::min(a, b)}] -= w;
+    }
+    std::vector<std::vector<long>> rows(poses);
+    for (const auto& [rc, w] : blocks) rows[rc.first].push_back(rc.second);
+    for (auto& column : rows) std::sort(column.begin(), column.end());
+    const auto ordering = orderForCholesky(rows, 0);
+    ASSERT_TRUE(ordering.has_value());
+    std::vector<long> place(poses);
+    for (long k = 0; k < poses; ++k) place[ordering->column[k]] = k;
+    // Lower triangle, in the new order, column by column.
+    std::vector<std::map<long, double>> columns(6 * poses);
+    for (const auto& [rc, w] : blocks) {
+      const long r = std::max(place[rc.first], place[rc.second]);
+      const long c = std::min(place[rc.first], place[rc.second]);
+      for (int i = 0; i < 6; ++i) {
+        const long row = 6 * r + i;
+        for (int j = 0; j < 6; ++j) {
+          const long col = 6 * c + j;
+          if (row < col) continue;
+          double value = i == j ? w : 0.0;
+          if (r == c && i == j) value += 0.01 * (i + 1);  // distinct diagonal entries
+          columns[col][row] = value;
+        }
+      }
+    }
+    size_t entries = 0;
+    for (const auto& column : columns) entries += column.size();
+    A_ = cholmod_l_allocate_sparse(6 * poses, 6 * poses, entries, 1, 1, -1, CHOLMOD_REAL, &common_);
+    ASSERT_NE(A_, nullptr);
+    auto* p = static_cast<SuiteSparse_long*>(A_->p);
+    auto* i = static_cast<SuiteSparse_long*>(A_->i);
+    auto* x = static_cast<double*>(A_->x);
+    long at = 0;
+    for (size_t c = 0; c < columns.size(); ++c) {
+      p[c] = at;
+      for (const auto& [row, value] : columns[c]) {
+        i[at] = row;
+        x[at++] = value;
+      }
+    }
+    p[columns.size()] = at;
+    common_.nrelax[0] = 8;
+    common_.nrelax[1] = 32;
+    common_.nrelax[2] = 256;
+    common_.supernodal = CHOLMOD_SUPERNODAL;
+    common_.final_asis = 1;
+    common_.postorder = 0;
+    common_.nmethods = 1;
+    common_.method[0].ordering = CHOLMOD_NATURAL;
+    L_ = cholmod_l_analyze(A_, &common_);
+    ASSERT_NE(L_, nullptr);
+    ASSERT_TRUE(L_->is_super);
+  }
+
+  void TearDown() override {
+    if (L_ != nullptr) cholmod_l_free_factor(&L_, &common_);
+    if (A_ != nullptr) cholmod_l_free_sparse(&A_, &common_);
+    cholmod_l_finish(&common_);
+  }
+
+  // The factor's lower parts (the diagonal blocks' upper triangles are not part of it).
+  std::vector<double> lower() const {
+    const auto* super = static_cast<const SuiteSparse_long*>(L_->super);
+    const auto* pi = static_cast<const SuiteSparse_long*>(L_->pi);
+    const auto* px = static_cast<const SuiteSparse_long*>(L_->px);
+    const auto* x = static_cast<const double*>(L_->x);
+    std::vector<double> values;
+    for (size_t s = 0; s < L_->nsuper; ++s) {
+      const long columns = super[s + 1] - super[s], height = pi[s + 1] - pi[s];
+      for (long j = 0; j < columns; ++j)
+        values.insert(values.end(), x + px[s] + j * height + j, x + px[s] + (j + 1) * height);
+    }
+    return values;
+  }
+
+  cholmod_common common_;
+  cholmod_sparse* A_ = nullptr;
+  cholmod_factor* L_ = nullptr;
+};
+
+TEST_F(SupernodalCholeskyTest, TheFactorIsCholmodsToTheBitOnOneThreadAndOnTwo) {
+  ASSERT_TRUE(cholmod_l_factorize(A_, L_, &common_));
+  ASSERT_EQ(common_.status, CHOLMOD_OK);
+  const std::vector<double> cholmod = lower();
+  SupernodalCholesky ours(*L_);
+  ASSERT_TRUE(ours.splits()) << ours.flops() << " flops";
+  for (const int threads : {1, 2}) {
+    // Two threads ten times: their dense calls overlap thousands of times, each on its own
+    // buffer only while OpenBLAS's buffer allocation is serialized.
+    for (int run = 0; run < (threads == 1 ? 1 : 10); ++run) {
+      std::memset(L_->x, 0, sizeof(double) * L_->xsize);
+      ASSERT_TRUE(ours.factorize(*A_, *L_, threads));
+      const std::vector<double> factor = lower();
+      ASSERT_EQ(factor.size(), cholmod.size());
+      EXPECT_EQ(std::memcmp(factor.data(), cholmod.data(), sizeof(double) * factor.size()), 0)
+          << threads << " thread(s), run " << run;
+    }
+  }
+}
+
+TEST_F(SupernodalCholeskyTest, AMatrixNotPositiveDefiniteIsNotFactorized) {
+  ASSERT_TRUE(cholmod_l_factorize(A_, L_, &common_));  // L's values allocated
+  SupernodalCholesky ours(*L_);
+  // A late column's diagonal entry made negative: its supernode's pivot fails, on one thread
+  // or on two (then in the top part, or in a thread's subtrees).
+  for (const long column : {6L * 1000 + 3, static_cast<long>(A_->ncol) - 1}) {
+    auto* p = static_cast<SuiteSparse_long*>(A_->p);
+    auto* x = static_cast<double*>(A_->x);
+    const double kept = x[p[column]];  // the first entry of a lower column is its diagonal
+    x[p[column]] = -1.0;
+    for (const int threads : {1, 2}) {
+      EXPECT_FALSE(ours.factorize(*A_, *L_, threads)) << "column " << column << ", " << threads;
+    }
+    x[p[column]] = kept;
+    EXPECT_TRUE(ours.factorize(*A_, *L_, 2));
+  }
+}
+
+}  // namespace
+}  // namespace hydra_multi
