@@ -33,8 +33,8 @@ struct PoseGraphOptimizerOptions {
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-10;
   int num_threads = 1;  ///< Ceres' threads (conjugate gradients)
-  /// Threads that linearize the sparse Cholesky solves (LmOptions::threads; the same steps as
-  /// one thread's, to the bit).
+  /// Threads that linearize and factorize the sparse Cholesky solves (LmOptions::threads; the
+  /// same steps as one thread's, to the bit).
   int linearization_threads = 1;
   /// Sparse Cholesky is exact and fast while the graph stays sparse; outlier loop closures that
   /// join random poses make its factor dense, where Jacobi-preconditioned conjugate gradients (no

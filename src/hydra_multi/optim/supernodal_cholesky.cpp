@@ -4,7 +4,10 @@
 
 #include <algorithm>
 #include <cstring>
+#include <exception>
+#include <functional>
 #include <mutex>
+#include <system_error>
 #include <thread>
 
 extern "C" {
@@ -137,13 +140,26 @@ bool SupernodalCholesky::factorize(const cholmod_sparse& A, cholmod_factor& L, i
   std::vector<Int> head(supernodes, -1);
   if (threads < 2 || !two_threads_) return factorPart(A, L, -1, false, head, work_[0]);
   std::vector<Int> head_1(supernodes, -1);
-  bool done_1 = false;
-  {
-    std::thread second([&] { done_1 = factorPart(A, L, 1, false, head_1, work_[1]); });
-    const bool done_0 = factorPart(A, L, 0, false, head, work_[0]);
+  bool done[2] = {false, false};
+  std::exception_ptr failed[2];
+  const auto run = [&](int part, std::vector<Int>& lists) {
+    try {
+      done[part] = factorPart(A, L, part, false, lists, work_[part]);
+    } catch (...) {
+      failed[part] = std::current_exception();
+    }
+  };
+  try {
+    std::thread second(run, 1, std::ref(head_1));
+    run(0, head);
     second.join();
-    if (!done_0 || !done_1) return false;
+  } catch (const std::system_error&) {  // no second thread: nothing done yet, all on this one
+    return factorPart(A, L, -1, false, head, work_[0]);
   }
+  for (const std::exception_ptr& failure : failed) {
+    if (failure) std::rethrow_exception(failure);
+  }
+  if (!done[0] || !done[1]) return false;
   // The top part's lists: the second thread's after the first's, reordered as they are taken.
   for (size_t s = 0; s < supernodes; ++s) {
     if (part_[s] != 2 || head_1[s] < 0) continue;
