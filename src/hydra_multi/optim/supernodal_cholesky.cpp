@@ -3,6 +3,7 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 #include <exception>
 #include <functional>
@@ -84,25 +85,19 @@ SupernodalCholesky::SupernodalCholesky(const cholmod_factor& symbolic) {
       frontier.push_back(s);
     }
   }
-  std::vector<Int> best_sets[2];
+  std::vector<Int> best_tasks;
   double top_work = 0.0, best_span = total_flops_ + 1.0;
   for (int step = 0; step < kCutSteps && !frontier.empty(); ++step) {
     std::sort(frontier.begin(), frontier.end(), [&](Int a, Int b) {
       return subtree[a] > subtree[b] || (subtree[a] == subtree[b] && a < b);
     });
-    double load[2] = {0.0, 0.0};
-    std::vector<Int> sets[2];
-    for (const Int s : frontier) {
-      const int to = load[1] < load[0] ? 1 : 0;
-      load[to] += subtree[s];
-      sets[to].push_back(s);
-    }
+    double load[2] = {0.0, 0.0};  // each subtree to the thread free first, largest first
+    for (const Int s : frontier) load[load[1] < load[0] ? 1 : 0] += subtree[s];
     const double span = top_work + std::max(load[0], load[1]);
-    if (span < best_span) {
+    if (span < best_span && frontier.size() > 1) {
       best_span = span;
       best_top = top;
-      best_sets[0] = sets[0];
-      best_sets[1] = sets[1];
+      best_tasks = frontier;
     }
     const Int heaviest = frontier.front();
     if (children[heaviest].empty()) break;
@@ -111,16 +106,25 @@ SupernodalCholesky::SupernodalCholesky(const cholmod_factor& symbolic) {
     top.push_back(heaviest);
     top_work += work[heaviest];
   }
-  two_threads_ = total_flops_ >= kTwoThreadsFrom && !best_sets[0].empty() &&
-                 !best_sets[1].empty() && best_span <= kSplitShare * total_flops_;
-  part_.assign(supernodes, two_threads_ ? -1 : 0);
+  two_threads_ = total_flops_ >= kTwoThreadsFrom && best_span <= kSplitShare * total_flops_;
+  task_.assign(supernodes, kAll);
   if (two_threads_) {
-    for (const Int s : best_top) part_[s] = 2;
-    for (int set = 0; set < 2; ++set) {
-      for (const Int s : best_sets[set]) part_[s] = static_cast<int8_t>(set);
-    }
+    for (const Int s : best_top) task_[s] = kTop;
+    for (size_t t = 0; t < best_tasks.size(); ++t) task_[best_tasks[t]] = static_cast<int32_t>(t);
     for (Int s = supernodes - 1; s >= 0; --s) {
-      if (part_[s] < 0) part_[s] = part_[parent[s]];
+      if (task_[s] == kAll) task_[s] = task_[parent[s]];
+    }
+    // Each task's supernodes in order, one after another.
+    task_start_.assign(best_tasks.size() + 1, 0);
+    for (Int s = 0; s < supernodes; ++s) {
+      if (task_[s] >= 0) ++task_start_[task_[s] + 1];
+    }
+    for (size_t t = 0; t < best_tasks.size(); ++t) task_start_[t + 1] += task_start_[t];
+    task_members_.resize(task_start_.back());
+    std::vector<Int> at(task_start_.begin(), task_start_.end() - 1);
+    for (Int s = 0; s < supernodes; ++s) {
+      if (task_[s] >= 0) task_members_[at[task_[s]]++] = s;
+      if (task_[s] == kTop) top_.push_back(s);
     }
   }
   next_.assign(supernodes, -1);
@@ -138,15 +142,25 @@ bool SupernodalCholesky::factorize(const cholmod_sparse& A, cholmod_factor& L, i
     if (!two_threads_) break;
   }
   std::vector<Int> head(supernodes, -1);
-  if (threads < 2 || !two_threads_) return factorPart(A, L, -1, false, head, work_[0]);
+  if (threads < 2 || !two_threads_) return factorPart(A, L, nullptr, 0, false, head, work_[0]);
+  // The subtrees, largest first, each to the thread free first; then the top part.
   std::vector<Int> head_1(supernodes, -1);
-  bool done[2] = {false, false};
+  std::atomic<size_t> next_task{0};
+  std::atomic<bool> stop{false};
+  bool done[2] = {true, true};
   std::exception_ptr failed[2];
-  const auto run = [&](int part, std::vector<Int>& lists) {
+  const auto run = [&](int thread, std::vector<Int>& lists) {
     try {
-      done[part] = factorPart(A, L, part, false, lists, work_[part]);
+      for (size_t t = next_task++; t + 1 < task_start_.size() && !stop; t = next_task++) {
+        if (!factorPart(A, L, &task_members_[task_start_[t]], task_start_[t + 1] - task_start_[t],
+                        false, lists, work_[thread])) {
+          done[thread] = false;
+          stop = true;
+        }
+      }
     } catch (...) {
-      failed[part] = std::current_exception();
+      failed[thread] = std::current_exception();
+      stop = true;
     }
   };
   try {
@@ -154,7 +168,7 @@ bool SupernodalCholesky::factorize(const cholmod_sparse& A, cholmod_factor& L, i
     run(0, head);
     second.join();
   } catch (const std::system_error&) {  // no second thread: nothing done yet, all on this one
-    return factorPart(A, L, -1, false, head, work_[0]);
+    return factorPart(A, L, nullptr, 0, false, head, work_[0]);
   }
   for (const std::exception_ptr& failure : failed) {
     if (failure) std::rethrow_exception(failure);
@@ -162,7 +176,7 @@ bool SupernodalCholesky::factorize(const cholmod_sparse& A, cholmod_factor& L, i
   if (!done[0] || !done[1]) return false;
   // The top part's lists: the second thread's after the first's, reordered as they are taken.
   for (size_t s = 0; s < supernodes; ++s) {
-    if (part_[s] != 2 || head_1[s] < 0) continue;
+    if (task_[s] != kTop || head_1[s] < 0) continue;
     if (head[s] < 0) {
       head[s] = head_1[s];
       continue;
@@ -171,11 +185,12 @@ bool SupernodalCholesky::factorize(const cholmod_sparse& A, cholmod_factor& L, i
     while (next_[tail] >= 0) tail = next_[tail];
     next_[tail] = head_1[s];
   }
-  return factorPart(A, L, 2, true, head, work_[0]);
+  return factorPart(A, L, top_.data(), top_.size(), true, head, work_[0]);
 }
 
-bool SupernodalCholesky::factorPart(const cholmod_sparse& A, cholmod_factor& L, int part,
-                                    bool order_lists, std::vector<Int>& head, Workspace& work) {
+bool SupernodalCholesky::factorPart(const cholmod_sparse& A, cholmod_factor& L, const Int* only,
+                                    size_t count, bool order_lists, std::vector<Int>& head,
+                                    Workspace& work) {
   const Int supernodes = static_cast<Int>(L.nsuper);
   const auto* super = static_cast<const Int*>(L.super);
   const auto* pi = static_cast<const Int*>(L.pi);
@@ -188,8 +203,8 @@ bool SupernodalCholesky::factorPart(const cholmod_sparse& A, cholmod_factor& L, 
   const auto* Ax = static_cast<const double*>(A.x);
   const double one = 1.0, zero = 0.0;
   std::vector<Int> descendants;
-  for (Int s = 0; s < supernodes; ++s) {
-    if (part >= 0 && part_[s] != part) continue;
+  for (size_t at = 0; at < (only != nullptr ? count : static_cast<size_t>(supernodes)); ++at) {
+    const Int s = only != nullptr ? only[at] : static_cast<Int>(at);
     const Int k1 = super[s], k2 = super[s + 1], columns = k2 - k1;
     const Int first_row = pi[s], height = pi[s + 1] - first_row;
     for (Int k = 0; k < height; ++k) work.map[rows[first_row + k]] = k;

@@ -4,11 +4,11 @@
 // as CHOLMOD's (cholmod_super_numeric): per supernode s, in column order, A's columns scattered
 // in, the update L_d(rows >= s) L_d(rows of s)^T of each descendant d with rows in s subtracted
 // (dsyrk, dgemm), then L_ss = chol(.) (dpotrf) and the rows below it solved (dtrsm).
-// On two threads the supernodal elimination tree is cut into a top part and disjoint subtrees in
-// two sets of about equal work (a flop count per supernode, updates included); each set is
-// factorized on its own thread, the top part after both. Every supernode takes its descendants
-// in the order one thread takes them, so the factor is the same to the bit on one thread or two,
-// and the same as CHOLMOD's.
+// On two threads the supernodal elimination tree is cut into a top part and disjoint subtrees:
+// the cut two threads would end soonest by a flop count per supernode (updates included), each
+// subtree taken, largest first, by the thread free first. The threads take the subtrees so, then
+// one does the top part. Every supernode takes its descendants in the order one thread takes
+// them, so the factor is the same to the bit on one thread or two, and the same as CHOLMOD's.
 // Debian's serial OpenBLAS does not lock its pool of work buffers for callers on several
 // threads; while a factorization runs on two, each buffer is taken under a lock (its
 // blas_memory_alloc, interposed), so two dense calls never share one.
@@ -48,11 +48,16 @@ class SupernodalCholesky {
     Int at = -1;
     int64_t nth = 0;
   };
-  bool factorPart(const cholmod_sparse& A, cholmod_factor& L, int part, bool order_lists,
-                  std::vector<Int>& head, Workspace& work);
+  // Factorizes the `count` supernodes at `only` in order (null: every supernode), with the
+  // descendants' lists `head`; `order_lists`: each list sorted as one thread would have made it.
+  bool factorPart(const cholmod_sparse& A, cholmod_factor& L, const Int* only, size_t count,
+                  bool order_lists, std::vector<Int>& head, Workspace& work);
 
-  std::vector<Int> owner_;    // column -> its supernode
-  std::vector<int8_t> part_;  // supernode -> 0 or 1 (a thread's subtrees) or 2 (the top part)
+  static constexpr int32_t kAll = -2, kTop = -1;
+  std::vector<Int> owner_;          // column -> its supernode
+  std::vector<int32_t> task_;       // supernode -> its subtree's task, kTop, or kAll (one thread)
+  std::vector<size_t> task_start_;  // the tasks' supernodes, in order: task t's from start[t]
+  std::vector<Int> task_members_, top_;
   size_t max_rows_ = 0, max_update_ = 0;
   double total_flops_ = 0.0;
   bool two_threads_ = false;
