@@ -128,8 +128,8 @@ TEST_F(SupernodalCholeskyTest, TheFactorIsCholmodsToTheBitOnOneThreadAndOnTwo) {
   SupernodalCholesky ours(*L_);
   ASSERT_TRUE(ours.splits()) << ours.flops() << " flops";
   for (const int threads : {1, 2}) {
-    // Two threads ten times: their dense calls overlap thousands of times, each on its own
-    // buffer only while OpenBLAS's buffer allocation is serialized.
+    // Two threads ten times: their dense calls overlap, each on its own buffer only while
+    // OpenBLAS's buffer allocation is serialized (without it this fails).
     for (int run = 0; run < (threads == 1 ? 1 : 10); ++run) {
       std::memset(L_->x, 0, sizeof(double) * L_->xsize);
       ASSERT_TRUE(ours.factorize(*A_, *L_, threads));

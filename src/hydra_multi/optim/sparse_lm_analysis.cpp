@@ -276,20 +276,20 @@ void SparseLevenbergMarquardt::Impl::allocateFactor() {
   // arena: faulted in here, they would be faulted in again by the solve's own.
   if (!keptForReuse(L->xsize * sizeof(double))) return;
   const SerialOpenMp serial;
+  if (allocateValues()) std::memset(L->x, 0, L->xsize * sizeof(double));
+}
+
+bool SparseLevenbergMarquardt::Impl::allocateValues() {
+  if (L->xtype != CHOLMOD_PATTERN) return true;
   // The numeric supernodal LL' factor cholmod_l_factorize would make of it on its first call.
-  if (!cholmod_l_change_factor(CHOLMOD_REAL, true, true, true, true, L, &common) || L->x == nullptr)
-    return;
-  std::memset(L->x, 0, L->xsize * sizeof(double));
+  return cholmod_l_change_factor(CHOLMOD_REAL, true, true, true, true, L, &common) &&
+         L->x != nullptr;
 }
 
 bool SparseLevenbergMarquardt::Impl::factorize(int threads) {
   if (supernodal == nullptr)
     return cholmod_l_factorize(H, L, &common) && common.status == CHOLMOD_OK;
-  if (L->xtype == CHOLMOD_PATTERN &&
-      (!cholmod_l_change_factor(CHOLMOD_REAL, true, true, true, true, L, &common) ||
-       L->x == nullptr))
-    return false;
-  if (!supernodal->factorize(*H, *L, threads)) return false;
+  if (!allocateValues() || !supernodal->factorize(*H, *L, threads)) return false;
   L->minor = L->n;
   return true;
 }

@@ -181,6 +181,9 @@ struct SparseLevenbergMarquardt::Impl {
   void allocateFactor();
   // L's numeric values freed, its symbolic factorization kept (a supernodal L that has them).
   void freeFactorValues();
+  // A supernodal L's numeric values allocated where it has none (not written); false where
+  // CHOLMOD could not.
+  bool allocateValues();
   // L <- the factor of A (H as eliminated and damped): a supernodal L by `supernodal` on
   // `threads` threads, its values allocated first where it has none; a simplicial L by CHOLMOD.
   // False where A is not positive definite.

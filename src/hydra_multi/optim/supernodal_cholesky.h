@@ -31,8 +31,8 @@ class SupernodalCholesky {
   /// False where A is not positive definite (a pivot not above zero); L is then unusable.
   bool factorize(const cholmod_sparse& A, cholmod_factor& L, int threads);
 
-  /// Whether two threads would split the work: the cut's longer part (a thread's subtrees
-  /// plus the top part) against the whole, by the flop count.
+  /// Whether two threads are used: at least 2e7 flops, and by the flop count two threads taking
+  /// the cut's subtrees, then the top part, end within 90 % of one thread's time.
   bool splits() const { return two_threads_; }
   double flops() const { return total_flops_; }
 
