@@ -340,8 +340,9 @@ TEST(PoseGraphOptimizer, LeftOutEdgesAreNoFactorsAndAddNoFillIn) {
   EXPECT_GT(left.squaredResiduals()[first_outlier], 0.0);
 }
 
-// Solves of `g` on 1, 2 and 3 threads end at the same poses, to the bit.
-void threadsTakeTheStepsOfOne(const PoseGraph& g) {
+// Solves of `g` on 1, 2 and 3 threads end at the same poses, to the bit; its first `held` poses
+// held constant.
+void threadsTakeTheStepsOfOne(const PoseGraph& g, size_t held = 40) {
   ASSERT_GE(g.edges.size(), 4096u);  // below, the solver linearizes on one thread anyway
   const NodeId anchor = g.poses.begin()->first;
   const auto start = chordalInitialization(g, anchor);
@@ -351,7 +352,7 @@ void threadsTakeTheStepsOfOne(const PoseGraph& g) {
   weights[100] = 0.25;
   std::set<NodeId> constant;  // poses held: terms between two of them add a cost and no block
   for (const auto& [id, T] : g.poses) {
-    if (constant.size() < 40) constant.insert(id);
+    if (constant.size() < held) constant.insert(id);
   }
   const auto solved = [&](int threads) {
     PoseGraphOptimizerOptions options;
@@ -429,10 +430,10 @@ PoseGraph chainedGrid(std::mt19937& rng, int side, int chains, int length, doubl
   return g;
 }
 
-// The solver's threads (linearization and cost) take the steps of one thread, to the bit: on
-// sphere2500, and on the parking garage and a grid of hubs joined by chains, whose chains the
-// solver eliminates before CHOLMOD.
-TEST(PoseGraphOptimizer, LinearizationThreadsTakeTheStepsOfOneThreadToTheBit) {
+// The solver's threads (linearization, cost, the eliminations and the substitution back) take
+// the steps of one thread, to the bit: on sphere2500, and on the parking garage and a grid of hubs
+// joined by chains, whose chains the solver eliminates before CHOLMOD.
+TEST(PoseGraphOptimizer, SolverThreadsTakeTheStepsOfOneThreadToTheBit) {
   for (const std::string file : {"sphere2500.g2o", "parking-garage.g2o"}) {
     SCOPED_TRACE(file);
     auto g2o = io::readG2o(testing::dataDir() + "/pgo/" + file);
@@ -443,7 +444,11 @@ TEST(PoseGraphOptimizer, LinearizationThreadsTakeTheStepsOfOneThreadToTheBit) {
   }
   SCOPED_TRACE("chained grid");
   std::mt19937 rng(83);
-  threadsTakeTheStepsOfOne(chainedGrid(rng, 8, 2, 20, 0.01));
+  const PoseGraph grid = chainedGrid(rng, 8, 2, 20, 0.01);
+  threadsTakeTheStepsOfOne(grid);
+  // No pose held but the anchor: the hubs stay in A, and chains on either side of where the
+  // eliminations split for two threads end at the same hubs.
+  threadsTakeTheStepsOfOne(grid, 0);
 }
 
 // An analysis made ahead on another thread (PoseGraphOptimizerOptions::analyses, keep_analysis),

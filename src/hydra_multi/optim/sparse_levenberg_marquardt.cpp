@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "hydra_multi/core/parallel.h"
 #include "hydra_multi/optim/serial_openmp.h"
 #include "hydra_multi/optim/sparse_lm_impl.h"
 
@@ -68,11 +69,9 @@ void sparse_lm::solveRightLowerTransposed(const Block& L, Block& B) {
   }
 }
 
-bool SparseLevenbergMarquardt::Impl::eliminate(Eigen::VectorXd& rhs) {
-  factors.resize(eliminations.size());
-  solved_rhs.resize(eliminations.size());
-  neighbour_products.resize(eliminations.size());
-  for (size_t k = 0; k < eliminations.size(); ++k) {
+bool SparseLevenbergMarquardt::Impl::eliminateRange(size_t first, size_t last, Eigen::VectorXd& rhs,
+                                                    bool defer) {
+  for (size_t k = first; k < last; ++k) {
     const Elimination& e = eliminations[k];
     Block& L = factors[k];
     if (!choleskyFactor(read(diagonal_block[e.v], true), L)) return false;
@@ -80,29 +79,72 @@ bool SparseLevenbergMarquardt::Impl::eliminate(Eigen::VectorXd& rhs) {
     z = rhs.segment<6>(6 * e.v);
     solveLower(L, z);
     std::array<Block, 2>& Y = neighbour_products[k];
+    const uint8_t deferred = defer ? e.deferred : 0;
     for (int n = 0; n < 2 && e.u[n] != kNone; ++n) {
       Y[n] = toNeighbour(e, n);  // H_{u_n v} L^-T
       solveRightLowerTransposed(L, Y[n]);
-      add(e.uu[n], -(Y[n] * Y[n].transpose()), true);
-      rhs.segment<6>(6 * e.u[n]) -= Y[n] * z;
+      const Block update = -(Y[n] * Y[n].transpose());
+      const Vector6 w = Y[n] * z;
+      if (deferred & (1u << n)) {
+        deferred_blocks.push_back({e.uu[n], true, update});
+        deferred_rhs.push_back({e.u[n], w});
+      } else {
+        add(e.uu[n], update, true);
+        rhs.segment<6>(6 * e.u[n]) -= w;
+      }
     }
     if (e.u01 != kNone) {
       const Block S = Y[0] * Y[1].transpose();  // the update of H_{u0 u1}
-      add(e.u01, e.u[0] < e.u[1] ? Block(-S) : Block(-S.transpose()), false);
+      const Block update = e.u[0] < e.u[1] ? Block(-S) : Block(-S.transpose());
+      if (deferred & 4u) {
+        deferred_blocks.push_back({e.u01, false, update});
+      } else {
+        add(e.u01, update, false);
+      }
     }
   }
   return true;
 }
 
-void SparseLevenbergMarquardt::Impl::substituteBack(Eigen::VectorXd& step) {
-  for (size_t k = eliminations.size(); k-- > 0;) {
-    const Elimination& e = eliminations[k];
-    Vector6 delta = solved_rhs[k];
-    for (int n = 0; n < 2 && e.u[n] != kNone; ++n)
-      delta -= neighbour_products[k][n].transpose() * step.segment<6>(6 * e.u[n]);
-    solveLowerTransposed(factors[k], delta);
-    step.segment<6>(6 * e.v) = delta;
-  }
+bool SparseLevenbergMarquardt::Impl::eliminate(Eigen::VectorXd& rhs, int threads) {
+  factors.resize(eliminations.size());
+  solved_rhs.resize(eliminations.size());
+  neighbour_products.resize(eliminations.size());
+  const size_t split = threads >= 2 ? elimination_split : 0;
+  if (split == 0) return eliminateRange(0, eliminations.size(), rhs, false);
+  deferred_blocks.clear();
+  deferred_rhs.clear();
+  char done[2] = {0, 0};
+  runOnThreads(2, [&](size_t t) {
+    done[t] = t == 0 ? eliminateRange(0, split, rhs, false)
+                     : eliminateRange(split, eliminations.size(), rhs, true);
+  });
+  if (!done[0] || !done[1]) return false;
+  for (const DeferredBlock& d : deferred_blocks) add(d.block, d.value, d.diagonal);
+  for (const DeferredRhs& d : deferred_rhs) rhs.segment<6>(6 * d.variable) -= d.value;
+  return true;
+}
+
+void SparseLevenbergMarquardt::Impl::substituteBack(Eigen::VectorXd& step, int threads) {
+  const auto substitute = [&](size_t first, size_t last) {
+    for (size_t k = last; k-- > first;) {
+      const Elimination& e = eliminations[k];
+      Vector6 delta = solved_rhs[k];
+      for (int n = 0; n < 2 && e.u[n] != kNone; ++n)
+        delta -= neighbour_products[k][n].transpose() * step.segment<6>(6 * e.u[n]);
+      solveLowerTransposed(factors[k], delta);
+      step.segment<6>(6 * e.v) = delta;
+    }
+  };
+  const size_t split = threads >= 2 ? elimination_split : 0;
+  if (split == 0) return substitute(0, eliminations.size());
+  runOnThreads(2, [&](size_t t) {
+    if (t == 0) {
+      substitute(0, split);
+    } else {
+      substitute(split, eliminations.size());
+    }
+  });
 }
 
 SparseLevenbergMarquardt::SparseLevenbergMarquardt(size_t num_poses, std::vector<LmTerm> terms,
@@ -251,7 +293,7 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
       }
     }
     rhs_of = -g;
-    const bool eliminated = m.eliminate(rhs_of);
+    const bool eliminated = m.eliminate(rhs_of, options.threads);
     auto* rhs = static_cast<double*>(b->x);  // in A's order
     for (size_t k = 0; k < n; ++k) {
       if (m.permuted[k] != kNone) rhs[m.permuted[k]] = rhs_of[static_cast<Eigen::Index>(k)];
@@ -269,7 +311,7 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
         if (m.permuted[k] != kNone) step[static_cast<Eigen::Index>(k)] = solution[m.permuted[k]];
       }
       cholmod_l_free_dense(&delta, &m.common);
-      m.substituteBack(step);
+      m.substituteBack(step, options.threads);
     }
     linearized = false;
     bool taken = false;

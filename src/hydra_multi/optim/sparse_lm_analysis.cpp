@@ -19,6 +19,10 @@ using namespace sparse_lm;
 namespace {
 
 constexpr size_t kBothOrderingsFrom = 5000;  // variables
+// Below this many eliminations they stay on one thread; a split leaving either thread less than
+// kMinSplitShare of the work is not taken.
+constexpr size_t kEliminationThreadsFrom = 2048;
+constexpr double kMinSplitShare = 0.25;
 
 // The order in which to eliminate variables of a graph (`neighbours`: per variable, the others a
 // term joins it to): one by one, any joined to at most two others (a pose of a chain, a leaf), its
@@ -69,6 +73,66 @@ std::vector<std::pair<long, std::array<long, 2>>> chainsAndLeaves(
 }
 
 }  // namespace
+
+void SparseLevenbergMarquardt::Impl::splitEliminations(size_t blocks) {
+  elimination_split = 0;
+  const size_t count = eliminations.size();
+  if (count < kEliminationThreadsFrom) return;
+  std::vector<long> elimination_of(variables, kNone);
+  for (size_t k = 0; k < count; ++k) elimination_of[eliminations[k].v] = static_cast<long>(k);
+  // The parts joined through eliminated variables (union-find over eliminations), each with its
+  // last elimination.
+  std::vector<size_t> parent(count);
+  for (size_t k = 0; k < count; ++k) parent[k] = k;
+  const auto root = [&](size_t k) {
+    while (parent[k] != k) k = parent[k] = parent[parent[k]];
+    return k;
+  };
+  for (size_t k = 0; k < count; ++k) {
+    for (const long u : eliminations[k].u) {
+      if (u == kNone || elimination_of[u] == kNone) continue;
+      const size_t a = root(k), b = root(static_cast<size_t>(elimination_of[u]));
+      if (a != b) parent[std::min(a, b)] = std::max(a, b);
+    }
+  }
+  std::vector<size_t> last(count, 0);
+  for (size_t k = 0; k < count; ++k) last[root(k)] = std::max(last[root(k)], k);
+  // The split nearest half the work (an elimination's: one plus its neighbours) that no part
+  // spans: every part begun before it has ended before it.
+  const auto work = [&](size_t k) {
+    return 1.0 + (eliminations[k].u[0] != kNone) + (eliminations[k].u[1] != kNone);
+  };
+  double total = 0.0;
+  for (size_t k = 0; k < count; ++k) total += work(k);
+  double before = 0.0, best_gap = total;
+  size_t best = 0, ended = 0;
+  for (size_t k = 0; k < count; ++k) {
+    ended = std::max(ended, last[root(k)]);
+    before += work(k);
+    if (ended == k && std::abs(before - 0.5 * total) < best_gap) {
+      best_gap = std::abs(before - 0.5 * total);
+      best = k + 1;
+    }
+  }
+  if (best == 0 || best_gap > (0.5 - kMinSplitShare) * total) return;
+  elimination_split = best;
+  // What the first thread writes of variables in A: their diagonal blocks and rhs segments, and
+  // the blocks between two of them.
+  std::vector<char> variable_written(variables, 0), block_written(blocks, 0);
+  const auto inA = [&](long u) { return u != kNone && elimination_of[u] == kNone; };
+  for (size_t k = 0; k < count; ++k) {
+    Elimination& e = eliminations[k];
+    e.deferred = 0;
+    for (int n = 0; n < 2; ++n) {
+      if (!inA(e.u[n])) continue;
+      if (k < best) variable_written[e.u[n]] = 1;
+      if (k >= best && variable_written[e.u[n]]) e.deferred |= 1u << n;
+    }
+    if (e.u01 == kNone || !inA(e.u[0]) || !inA(e.u[1])) continue;
+    if (k < best) block_written[e.u01] = 1;
+    if (k >= best && block_written[e.u01]) e.deferred |= 4u;
+  }
+}
 
 void SparseLevenbergMarquardt::Impl::analyze(size_t num_poses, const std::vector<bool>& fixed) {
   Impl& m = *this;
@@ -147,6 +211,7 @@ void SparseLevenbergMarquardt::Impl::analyze(size_t num_poses, const std::vector
     }
     if (degree == 2) e.u01 = blockOf(e.u[0], e.u[1]);
   }
+  m.splitEliminations(block_at.size());
   // A: the variables not eliminated, with their blocks.
   std::vector<long> reduced(m.variables, kNone);
   for (size_t v = 0; v < m.variables; ++v) {

@@ -72,12 +72,30 @@ struct SparseLevenbergMarquardt::Impl {
   // of an eliminated variable are stored after A's values (36 per block, column-major, not
   // transposed). The eliminations change H's values: each step starts from H linearized afresh
   // (a step not taken linearizes again at the same poses, to the same values).
+  // On two threads the eliminations before `elimination_split` run on one, the rest on the
+  // other (0: all on one). No chain or tree of eliminated variables spans the split, so neither
+  // thread reads what the other writes. Both write only blocks of variables in A: the second
+  // thread's writes to those the first also writes (`deferred`, bit n: u_n's diagonal block and
+  // rhs segment; bit 2: u01) are applied after both, in order, as one thread would add them.
   struct Elimination {
     long v = kNone;
     std::array<long, 2> u{kNone, kNone}, vu{kNone, kNone}, uu{kNone, kNone};
     long u01 = kNone;
+    uint8_t deferred = 0;
   };
   std::vector<Elimination> eliminations;
+  size_t elimination_split = 0;
+  struct DeferredBlock {
+    long block;
+    bool diagonal;
+    Block value;
+  };
+  struct DeferredRhs {
+    long variable;
+    Vector6 value;
+  };
+  std::vector<DeferredBlock> deferred_blocks;
+  std::vector<DeferredRhs> deferred_rhs;
   size_t reduced = 0;  // variables in A
   // Per elimination, for the substitution: the Cholesky factor of D_v = L_v L_v^T, L_v^-1 rhs_v,
   // and H_uv L_v^-T per neighbour u.
@@ -189,15 +207,22 @@ struct SparseLevenbergMarquardt::Impl {
   // False where A is not positive definite.
   bool factorize(int threads);
 
+  // Where the eliminations split for two threads (elimination_split, Elimination::deferred), from
+  // `blocks`, the number of H's blocks. Once, by the analysis.
+  void splitEliminations(size_t blocks);
   // The eliminations on the damped H and the right-hand side `rhs` (-g, per variable), in order:
   // H_uw -= H_uv D_v^-1 H_vw and rhs_u -= H_uv D_v^-1 rhs_v for the neighbours u, w of v, through
-  // D_v = L_v L_v^T: H_uv D_v^-1 H_vw = Y_u Y_w^T with Y_u = H_uv L_v^-T. False where a D_v is not
-  // positive definite.
-  bool eliminate(Eigen::VectorXd& rhs);
+  // D_v = L_v L_v^T: H_uv D_v^-1 H_vw = Y_u Y_w^T with Y_u = H_uv L_v^-T. On two threads where
+  // `threads` allows and they split; the same values to the bit. False where a D_v is not positive
+  // definite.
+  bool eliminate(Eigen::VectorXd& rhs, int threads);
+  // Eliminations [first, last) in order; with `defer`, the writes their `deferred` bits name are
+  // left in deferred_blocks and deferred_rhs.
+  bool eliminateRange(size_t first, size_t last, Eigen::VectorXd& rhs, bool defer);
   // The eliminated variables' steps from the others', last elimination first:
   // delta_v = D_v^-1 rhs_v - sum_u (H_uv D_v^-1)^T delta_u = L_v^-T (L_v^-1 rhs_v - sum_u Y_u^T
-  // delta_u).
-  void substituteBack(Eigen::VectorXd& step);
+  // delta_u). Each side of the split on its own thread where `threads` allows.
+  void substituteBack(Eigen::VectorXd& step, int threads);
 
   // The residual of term k at `poses` and, if `J_i`/`J_j` are given, its tangent Jacobians.
   bool evaluate(size_t k, const std::vector<PoseParameters>& poses, Residual& r, JacobianRows* J_i,
