@@ -141,6 +141,32 @@ TEST_F(SupernodalCholeskyTest, TheFactorIsCholmodsToTheBitOnOneThreadAndOnTwo) {
   }
 }
 
+TEST_F(SupernodalCholeskyTest, TheSolutionIsCholmodsToTheBitOnOneThreadAndOnTwo) {
+  SupernodalCholesky ours(*L_);
+  ASSERT_TRUE(cholmod_l_factorize(A_, L_, &common_));  // L's values allocated
+  ASSERT_TRUE(ours.factorize(*A_, *L_, 2));
+  ASSERT_TRUE(ours.splits());
+  cholmod_dense* b = cholmod_l_zeros(A_->nrow, 1, CHOLMOD_REAL, &common_);
+  ASSERT_NE(b, nullptr);
+  std::mt19937 random(11);
+  std::normal_distribution<double> value(0.0, 1.0);
+  auto* rhs = static_cast<double*>(b->x);
+  for (size_t k = 0; k < A_->nrow; ++k) rhs[k] = value(random);
+  cholmod_dense* x = cholmod_l_solve(CHOLMOD_A, L_, b, &common_);
+  ASSERT_NE(x, nullptr);
+  const auto* cholmod = static_cast<const double*>(x->x);
+  for (const int threads : {1, 2}) {
+    for (int run = 0; run < (threads == 1 ? 1 : 10); ++run) {
+      std::vector<double> solution(rhs, rhs + A_->nrow);
+      ours.solve(*L_, solution.data(), threads);
+      EXPECT_EQ(std::memcmp(solution.data(), cholmod, sizeof(double) * solution.size()), 0)
+          << threads << " thread(s), run " << run;
+    }
+  }
+  cholmod_l_free_dense(&x, &common_);
+  cholmod_l_free_dense(&b, &common_);
+}
+
 TEST_F(SupernodalCholeskyTest, AMatrixNotPositiveDefiniteIsNotFactorized) {
   ASSERT_TRUE(cholmod_l_factorize(A_, L_, &common_));  // L's values allocated
   SupernodalCholesky ours(*L_);

@@ -303,14 +303,19 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
     summary.factorization_s +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - factorization_start)
             .count();
-    cholmod_dense* delta = positive ? cholmod_l_solve(CHOLMOD_A, m.L, b, &m.common) : nullptr;
-    const bool solved = delta != nullptr;
+    cholmod_dense* delta = nullptr;
+    if (positive && m.supernodal != nullptr) {
+      m.supernodal->solve(*m.L, rhs, options.threads);  // in place
+    } else if (positive) {
+      delta = cholmod_l_solve(CHOLMOD_A, m.L, b, &m.common);
+    }
+    const bool solved = positive && (m.supernodal != nullptr || delta != nullptr);
     if (solved) {
-      const auto* solution = static_cast<const double*>(delta->x);  // in A's order
-      for (size_t k = 0; k < n; ++k) {
+      const double* solution = delta != nullptr ? static_cast<const double*>(delta->x) : rhs;
+      for (size_t k = 0; k < n; ++k) {  // solution: in A's order
         if (m.permuted[k] != kNone) step[static_cast<Eigen::Index>(k)] = solution[m.permuted[k]];
       }
-      cholmod_l_free_dense(&delta, &m.common);
+      if (delta != nullptr) cholmod_l_free_dense(&delta, &m.common);
       m.substituteBack(step, options.threads);
     }
     linearized = false;

@@ -328,7 +328,8 @@ void SparseLevenbergMarquardt::Impl::analyze(size_t num_poses, const std::vector
   m.common.method[0].ordering = CHOLMOD_NATURAL;
   m.L = cholmod_l_analyze(m.H, &m.common);
   if (m.L != nullptr) m.flops = m.common.fl + elimination_flops;
-  if (m.L != nullptr && m.L->is_super) m.supernodal = std::make_unique<SupernodalCholesky>(*m.L);
+  if (m.L != nullptr && m.L->is_super && m.L->ordering == CHOLMOD_NATURAL)
+    m.supernodal = std::make_unique<SupernodalCholesky>(*m.L);
   if (m.L != nullptr && !m.L->is_super) {
     cholmod_l_free_sparse(&m.H, &m.common);
     m.H = store(position, 1, true);

@@ -121,7 +121,8 @@ struct SparseLevenbergMarquardt::Impl {
   cholmod_common common;
   cholmod_sparse* H = nullptr;
   cholmod_factor* L = nullptr;
-  // A supernodal L's numeric factorization, ours in place of CHOLMOD's (the same factor).
+  // A supernodal L's numeric factorization and its solves, ours in place of CHOLMOD's (the
+  // same factor and solutions, to the bit).
   std::unique_ptr<SupernodalCholesky> supernodal;
   double flops = 0.0;  // of one factorization, from the analysis
   // Where the analysis goes when the solver ends; the terms then keep only their poses, which

@@ -31,6 +31,13 @@ class SupernodalCholesky {
   /// False where A is not positive definite (a pivot not above zero); L is then unusable.
   bool factorize(const cholmod_sparse& A, cholmod_factor& L, int threads);
 
+  /// x <- A^-1 x by the factor L of A that factorize() made: L's forward then backward
+  /// substitution, supernode by supernode with the dense calls of CHOLMOD's (cholmod_l_solve on
+  /// an LL' supernodal factor), so the same solution to the bit. The backward substitution, on
+  /// two threads where the factorization splits: the top part first, then the subtrees.
+  /// x: in L's order, L.n values.
+  void solve(const cholmod_factor& L, double* x, int threads);
+
   /// Whether two threads are used: at least 2e7 flops, and by the flop count two threads taking
   /// the cut's subtrees, then the top part, end within 90 % of one thread's time.
   bool splits() const { return two_threads_; }
@@ -40,7 +47,7 @@ class SupernodalCholesky {
   using Int = SuiteSparse_long;
   struct Workspace {
     std::vector<Int> map, relative;
-    std::vector<double> update;
+    std::vector<double> update, gathered;
   };
   // When a descendant was put on its next supernode's list: while supernode `at` was done, as
   // the `nth` put then. One thread's lists hold their descendants in descending order of it.
@@ -50,6 +57,10 @@ class SupernodalCholesky {
   };
   // Factorizes the `count` supernodes at `only` in order (null: every supernode), with the
   // descendants' lists `head`; `order_lists`: each list sorted as one thread would have made it.
+  // The forward substitution through supernode s, and the backward one; `gathered`: a buffer
+  // of the supernode's rows below its columns.
+  static void forwardStep(const cholmod_factor& L, Int s, double* x, double* gathered);
+  static void backwardStep(const cholmod_factor& L, Int s, double* x, double* gathered);
   bool factorPart(const cholmod_sparse& A, cholmod_factor& L, const Int* only, size_t count,
                   bool order_lists, std::vector<Int>& head, Workspace& work);
 
