@@ -2,6 +2,9 @@
 
 #include <cholmod.h>
 
+#include <future>
+#include <system_error>
+
 namespace hydra_multi {
 namespace {
 
@@ -56,8 +59,20 @@ std::optional<FillReducingOrdering> orderForCholesky(const std::vector<std::vect
       methods.push_back(OrderingMethod::kAmd);
       if (n >= both_from) methods.push_back(OrderingMethod::kMetis);
     }
-    for (const OrderingMethod method : methods) {
-      std::optional<FillReducingOrdering> ordering = orderBy(pattern, method);
+    // Two methods at once where a second thread starts (each with its own cholmod_common; the
+    // pattern only read): the same choice as one after the other.
+    std::vector<std::optional<FillReducingOrdering>> orderings(methods.size());
+    std::future<std::optional<FillReducingOrdering>> second;
+    if (methods.size() > 1) {
+      try {
+        second = std::async(std::launch::async, orderBy, pattern, methods[1]);
+      } catch (const std::system_error&) {  // no thread: in turn on this one
+      }
+    }
+    orderings[0] = orderBy(pattern, methods[0]);
+    for (size_t k = 1; k < methods.size(); ++k)
+      orderings[k] = k == 1 && second.valid() ? second.get() : orderBy(pattern, methods[k]);
+    for (std::optional<FillReducingOrdering>& ordering : orderings) {
       if (ordering && (!best || ordering->flops < best->flops)) best = std::move(ordering);
     }
     cholmod_l_free_sparse(&pattern, &common);
