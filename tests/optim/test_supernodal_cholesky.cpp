@@ -17,11 +17,13 @@ namespace hydra_multi {
 namespace {
 
 // A symmetric positive definite matrix of 6x6 blocks on the pattern of a real pose graph
-// (sphere2500: 2,500 poses), each edge adding w [I -I; -I I] (w random), each pose w I; stored as
-// its lower triangle in a fill-reducing order (fill_reducing_ordering.h), analyzed supernodally
-// in that order as the solver's analysis does.
+// (sphere2500: 2,500 poses; copies() of it, not joined), each edge adding w [I -I; -I I] (w
+// random), each pose w I; stored as its lower triangle in a fill-reducing order
+// (fill_reducing_ordering.h), analyzed supernodally in that order as the solver's analysis does.
 class SupernodalCholeskyTest : public ::testing::Test {
  protected:
+  virtual int copies() const { return 1; }
+
   void SetUp() override {
     cholmod_l_start(&common_);
     auto g2o = io::readG2o(testing::dataDir() + "/pgo/sphere2500.g2o");
@@ -29,19 +31,23 @@ class SupernodalCholeskyTest : public ::testing::Test {
     std::map<NodeId, long> index;
     for (const auto& [id, pose] : g2o.value().graph.poses)
       index.emplace(id, static_cast<long>(index.size()));
-    const long poses = static_cast<long>(index.size());
+    const long graph_poses = static_cast<long>(index.size());
+    const long poses = copies() * graph_poses;
     std::mt19937 random(7);
     std::uniform_real_distribution<double> weight(1.0, 10.0);
     // Per block (row >= column, in pose numbers), its weight times I.
     std::map<std::pair<long, long>, double> blocks;
     for (long p = 0; p < poses; ++p) blocks[{p, p}] += weight(random);
-    for (const PoseGraphEdge& e : g2o.value().graph.edges) {
-      const long a = index.at(e.from), b = index.at(e.to);
-      if (a == b) continue;
-      const double w = weight(random);
-      blocks[{a, a}] += w;
-      blocks[{b, b}] += w;
-      blocks[{std::max(a, b), std::min(a, b)}] -= w;
+    for (long copy = 0; copy < copies(); ++copy) {
+      for (const PoseGraphEdge& e : g2o.value().graph.edges) {
+        const long a = copy * graph_poses + index.at(e.from);
+        const long b = copy * graph_poses + index.at(e.to);
+        if (a == b) continue;
+        const double w = weight(random);
+        blocks[{a, a}] += w;
+        blocks[{b, b}] += w;
+        blocks[{std::max(a, b), std::min(a, b)}] -= w;
+      }
     }
     std::vector<std::vector<long>> rows(poses);
     for (const auto& [rc, w] : blocks) rows[rc.first].push_back(rc.second);
@@ -116,55 +122,78 @@ class SupernodalCholeskyTest : public ::testing::Test {
     return values;
   }
 
+  // Our factor is CHOLMOD's to the bit on one thread and `runs` times on two.
+  void factorIsCholmods(int runs) {
+    ASSERT_TRUE(cholmod_l_factorize(A_, L_, &common_));
+    ASSERT_EQ(common_.status, CHOLMOD_OK);
+    const std::vector<double> cholmod = lower();
+    SupernodalCholesky ours(*L_);
+    ASSERT_TRUE(ours.splits()) << ours.flops() << " flops";
+    for (const int threads : {1, 2}) {
+      for (int run = 0; run < (threads == 1 ? 1 : runs); ++run) {
+        std::memset(L_->x, 0, sizeof(double) * L_->xsize);
+        ASSERT_TRUE(ours.factorize(*A_, *L_, threads));
+        EXPECT_EQ(ours.factorized(), L_->nsuper) << threads << " thread(s): each supernode once";
+        const std::vector<double> factor = lower();
+        ASSERT_EQ(factor.size(), cholmod.size());
+        EXPECT_EQ(std::memcmp(factor.data(), cholmod.data(), sizeof(double) * factor.size()), 0)
+            << threads << " thread(s), run " << run;
+      }
+    }
+  }
+
+  // Our solution is CHOLMOD's to the bit on one thread and `runs` times on two.
+  void solutionIsCholmods(int runs) {
+    SupernodalCholesky ours(*L_);
+    ASSERT_TRUE(cholmod_l_factorize(A_, L_, &common_));  // L's values allocated
+    ASSERT_TRUE(ours.factorize(*A_, *L_, 2));
+    ASSERT_TRUE(ours.splits());
+    cholmod_dense* b = cholmod_l_zeros(A_->nrow, 1, CHOLMOD_REAL, &common_);
+    ASSERT_NE(b, nullptr);
+    std::mt19937 random(11);
+    std::normal_distribution<double> value(0.0, 1.0);
+    auto* rhs = static_cast<double*>(b->x);
+    for (size_t k = 0; k < A_->nrow; ++k) rhs[k] = value(random);
+    cholmod_dense* x = cholmod_l_solve(CHOLMOD_A, L_, b, &common_);
+    ASSERT_NE(x, nullptr);
+    const auto* cholmod = static_cast<const double*>(x->x);
+    for (const int threads : {1, 2}) {
+      for (int run = 0; run < (threads == 1 ? 1 : runs); ++run) {
+        std::vector<double> solution(rhs, rhs + A_->nrow);
+        ours.solve(*L_, solution.data(), threads);
+        EXPECT_EQ(std::memcmp(solution.data(), cholmod, sizeof(double) * solution.size()), 0)
+            << threads << " thread(s), run " << run;
+      }
+    }
+    cholmod_l_free_dense(&x, &common_);
+    cholmod_l_free_dense(&b, &common_);
+  }
+
   cholmod_common common_;
   cholmod_sparse* A_ = nullptr;
   cholmod_factor* L_ = nullptr;
 };
 
+// Two threads ten times: their dense calls overlap, each on its own buffer only while OpenBLAS's
+// buffer allocation is serialized (without it this fails).
 TEST_F(SupernodalCholeskyTest, TheFactorIsCholmodsToTheBitOnOneThreadAndOnTwo) {
-  ASSERT_TRUE(cholmod_l_factorize(A_, L_, &common_));
-  ASSERT_EQ(common_.status, CHOLMOD_OK);
-  const std::vector<double> cholmod = lower();
-  SupernodalCholesky ours(*L_);
-  ASSERT_TRUE(ours.splits()) << ours.flops() << " flops";
-  for (const int threads : {1, 2}) {
-    // Two threads ten times: their dense calls overlap, each on its own buffer only while
-    // OpenBLAS's buffer allocation is serialized (without it this fails).
-    for (int run = 0; run < (threads == 1 ? 1 : 10); ++run) {
-      std::memset(L_->x, 0, sizeof(double) * L_->xsize);
-      ASSERT_TRUE(ours.factorize(*A_, *L_, threads));
-      const std::vector<double> factor = lower();
-      ASSERT_EQ(factor.size(), cholmod.size());
-      EXPECT_EQ(std::memcmp(factor.data(), cholmod.data(), sizeof(double) * factor.size()), 0)
-          << threads << " thread(s), run " << run;
-    }
-  }
+  factorIsCholmods(10);
 }
 
 TEST_F(SupernodalCholeskyTest, TheSolutionIsCholmodsToTheBitOnOneThreadAndOnTwo) {
-  SupernodalCholesky ours(*L_);
-  ASSERT_TRUE(cholmod_l_factorize(A_, L_, &common_));  // L's values allocated
-  ASSERT_TRUE(ours.factorize(*A_, *L_, 2));
-  ASSERT_TRUE(ours.splits());
-  cholmod_dense* b = cholmod_l_zeros(A_->nrow, 1, CHOLMOD_REAL, &common_);
-  ASSERT_NE(b, nullptr);
-  std::mt19937 random(11);
-  std::normal_distribution<double> value(0.0, 1.0);
-  auto* rhs = static_cast<double*>(b->x);
-  for (size_t k = 0; k < A_->nrow; ++k) rhs[k] = value(random);
-  cholmod_dense* x = cholmod_l_solve(CHOLMOD_A, L_, b, &common_);
-  ASSERT_NE(x, nullptr);
-  const auto* cholmod = static_cast<const double*>(x->x);
-  for (const int threads : {1, 2}) {
-    for (int run = 0; run < (threads == 1 ? 1 : 10); ++run) {
-      std::vector<double> solution(rhs, rhs + A_->nrow);
-      ours.solve(*L_, solution.data(), threads);
-      EXPECT_EQ(std::memcmp(solution.data(), cholmod, sizeof(double) * solution.size()), 0)
-          << threads << " thread(s), run " << run;
-    }
-  }
-  cholmod_l_free_dense(&x, &common_);
-  cholmod_l_free_dense(&b, &common_);
+  solutionIsCholmods(10);
+}
+
+// Two copies of the pattern, not joined: the elimination tree is a forest, its two trees the
+// subtrees of the cut, with no top part.
+class SupernodalCholeskyForestTest : public SupernodalCholeskyTest {
+ protected:
+  int copies() const override { return 2; }
+};
+
+TEST_F(SupernodalCholeskyForestTest, TheFactorAndSolutionAreCholmodsToTheBit) {
+  factorIsCholmods(3);
+  solutionIsCholmods(3);
 }
 
 TEST_F(SupernodalCholeskyTest, AMatrixNotPositiveDefiniteIsNotFactorized) {

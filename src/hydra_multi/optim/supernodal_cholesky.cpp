@@ -147,6 +147,7 @@ bool SupernodalCholesky::factorize(const cholmod_sparse& A, cholmod_factor& L, i
     if (!two_threads_) break;
   }
   std::vector<Int> head(supernodes, -1);
+  factorized_ = 0;
   if (threads < 2 || !two_threads_) return factorPart(A, L, nullptr, 0, false, head, work_[0]);
   // The subtrees, largest first, each to the thread free first; then the top part.
   std::vector<Int> head_1(supernodes, -1);
@@ -190,7 +191,8 @@ bool SupernodalCholesky::factorize(const cholmod_sparse& A, cholmod_factor& L, i
     while (next_[tail] >= 0) tail = next_[tail];
     next_[tail] = head_1[s];
   }
-  return factorPart(A, L, top_.data(), top_.size(), true, head, work_[0]);
+  // No top part where the tree is a forest of the subtrees (factorPart takes null as all).
+  return top_.empty() || factorPart(A, L, top_.data(), top_.size(), true, head, work_[0]);
 }
 
 void SupernodalCholesky::forwardStep(const cholmod_factor& L, Int s, double* x, double* gathered) {
@@ -273,6 +275,7 @@ bool SupernodalCholesky::factorPart(const cholmod_sparse& A, cholmod_factor& L, 
   std::vector<Int> descendants;
   for (size_t at = 0; at < (only != nullptr ? count : static_cast<size_t>(supernodes)); ++at) {
     const Int s = only != nullptr ? only[at] : static_cast<Int>(at);
+    ++factorized_;
     const Int k1 = super[s], k2 = super[s + 1], columns = k2 - k1;
     const Int first_row = pi[s], height = pi[s + 1] - first_row;
     for (Int k = 0; k < height; ++k) work.map[rows[first_row + k]] = k;

@@ -15,6 +15,7 @@
 
 #include <cholmod.h>
 
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -42,6 +43,8 @@ class SupernodalCholesky {
   /// the cut's subtrees, then the top part, end within 90 % of one thread's time.
   bool splits() const { return two_threads_; }
   double flops() const { return total_flops_; }
+  /// The supernodes the last factorize() factorized: each once, L.nsuper where it ended well.
+  size_t factorized() const { return factorized_; }
 
  private:
   using Int = SuiteSparse_long;
@@ -72,6 +75,7 @@ class SupernodalCholesky {
   size_t max_rows_ = 0, max_update_ = 0;
   double total_flops_ = 0.0;
   bool two_threads_ = false;
+  std::atomic<size_t> factorized_{0};
   std::vector<Int> next_, lpos_;
   std::vector<Linked> linked_;
   Workspace work_[2];
