@@ -195,7 +195,8 @@ bool SupernodalCholesky::factorize(const cholmod_sparse& A, cholmod_factor& L, i
   return top_.empty() || factorPart(A, L, top_.data(), top_.size(), true, head, work_[0]);
 }
 
-void SupernodalCholesky::forwardStep(const cholmod_factor& L, Int s, double* x, double* gathered) {
+void SupernodalCholesky::substitute(const cholmod_factor& L, Int s, bool forward, double* x,
+                                    double* gathered) {
   const auto* super = static_cast<const Int*>(L.super);
   const auto* pi = static_cast<const Int*>(L.pi);
   const auto* rows = static_cast<const Int*>(L.s) + pi[s];
@@ -206,47 +207,37 @@ void SupernodalCholesky::forwardStep(const cholmod_factor& L, Int s, double* x, 
   const double minus_one = -1.0, plus_one = 1.0;
   for (int i = 0; i < below; ++i) gathered[i] = x[rows[columns + i]];
   double* x1 = x + super[s];
-  dtrsv_("L", "N", "N", &columns, Ls, &height, x1, &one);  // x1 <- L1^-1 x1
-  // E <- E - L2 x1
-  dgemv_("N", &below, &columns, &minus_one, Ls + columns, &height, x1, &one, &plus_one, gathered,
-         &one);
-  for (int i = 0; i < below; ++i) x[rows[columns + i]] = gathered[i];
-}
-
-void SupernodalCholesky::backwardStep(const cholmod_factor& L, Int s, double* x, double* gathered) {
-  const auto* super = static_cast<const Int*>(L.super);
-  const auto* pi = static_cast<const Int*>(L.pi);
-  const auto* rows = static_cast<const Int*>(L.s) + pi[s];
-  const double* Ls = static_cast<const double*>(L.x) + static_cast<const Int*>(L.px)[s];
-  const int columns = static_cast<int>(super[s + 1] - super[s]);
-  const int height = static_cast<int>(pi[s + 1] - pi[s]), below = height - columns;
-  const int one = 1;
-  const double minus_one = -1.0, plus_one = 1.0;
-  for (int i = 0; i < below; ++i) gathered[i] = x[rows[columns + i]];
-  double* x1 = x + super[s];
-  // x1 <- x1 - L2^T E, then x1 <- L1^-T x1
-  dgemv_("C", &below, &columns, &minus_one, Ls + columns, &height, gathered, &one, &plus_one, x1,
-         &one);
-  dtrsv_("L", "C", "N", &columns, Ls, &height, x1, &one);
+  if (forward) {
+    // x1 <- L1^-1 x1, then E <- E - L2 x1, scattered back
+    dtrsv_("L", "N", "N", &columns, Ls, &height, x1, &one);
+    dgemv_("N", &below, &columns, &minus_one, Ls + columns, &height, x1, &one, &plus_one, gathered,
+           &one);
+    for (int i = 0; i < below; ++i) x[rows[columns + i]] = gathered[i];
+  } else {
+    // x1 <- x1 - L2^T E, then x1 <- L1^-T x1
+    dgemv_("C", &below, &columns, &minus_one, Ls + columns, &height, gathered, &one, &plus_one, x1,
+           &one);
+    dtrsv_("L", "C", "N", &columns, Ls, &height, x1, &one);
+  }
 }
 
 void SupernodalCholesky::solve(const cholmod_factor& L, double* x, int threads) {
   const Int supernodes = static_cast<Int>(L.nsuper);
   for (Workspace& work : work_) work.gathered.resize(max_rows_);
   double* gathered = work_[0].gathered.data();
-  for (Int s = 0; s < supernodes; ++s) forwardStep(L, s, x, gathered);
+  for (Int s = 0; s < supernodes; ++s) substitute(L, s, true, x, gathered);
   if (threads < 2 || !two_threads_) {
-    for (Int s = supernodes; s-- > 0;) backwardStep(L, s, x, gathered);
+    for (Int s = supernodes; s-- > 0;) substitute(L, s, false, x, gathered);
     return;
   }
   // The top part, whose rows are its own; then each subtree, whose rows are its own or the top's.
-  for (size_t k = top_.size(); k-- > 0;) backwardStep(L, top_[k], x, gathered);
+  for (size_t k = top_.size(); k-- > 0;) substitute(L, top_[k], false, x, gathered);
   std::atomic<size_t> next_task{0};
   const auto run = [&](int thread) {
     double* buffer = work_[thread].gathered.data();
     for (size_t t = next_task++; t + 1 < task_start_.size(); t = next_task++) {
       for (size_t k = task_start_[t + 1]; k-- > task_start_[t];)
-        backwardStep(L, task_members_[k], x, buffer);
+        substitute(L, task_members_[k], false, x, buffer);
     }
   };
   try {

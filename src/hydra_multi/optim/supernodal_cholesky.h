@@ -60,10 +60,9 @@ class SupernodalCholesky {
   };
   // Factorizes the `count` supernodes at `only` in order (null: every supernode), with the
   // descendants' lists `head`; `order_lists`: each list sorted as one thread would have made it.
-  // The forward substitution through supernode s, and the backward one; `gathered`: a buffer
-  // of the supernode's rows below its columns.
-  static void forwardStep(const cholmod_factor& L, Int s, double* x, double* gathered);
-  static void backwardStep(const cholmod_factor& L, Int s, double* x, double* gathered);
+  // The forward substitution through supernode s, or the backward one; `gathered`: a buffer of
+  // the supernode's rows below its columns.
+  static void substitute(const cholmod_factor& L, Int s, bool forward, double* x, double* gathered);
   bool factorPart(const cholmod_sparse& A, cholmod_factor& L, const Int* only, size_t count,
                   bool order_lists, std::vector<Int>& head, Workspace& work);
 
