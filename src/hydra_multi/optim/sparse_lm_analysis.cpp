@@ -132,6 +132,14 @@ void SparseLevenbergMarquardt::Impl::splitEliminations(size_t blocks) {
     if (k < best) block_written[e.u01] = 1;
     if (k >= best && block_written[e.u01]) e.deferred |= 4u;
   }
+  // Room for every deferred write, so that the second thread never allocates (nor throws).
+  size_t blocks_deferred = 0, rhs_deferred = 0;
+  for (const Elimination& e : eliminations) {
+    rhs_deferred += (e.deferred & 1u) + ((e.deferred >> 1) & 1u);
+    blocks_deferred += (e.deferred & 1u) + ((e.deferred >> 1) & 1u) + ((e.deferred >> 2) & 1u);
+  }
+  deferred_blocks.reserve(blocks_deferred);
+  deferred_rhs.reserve(rhs_deferred);
 }
 
 void SparseLevenbergMarquardt::Impl::analyze(size_t num_poses, const std::vector<bool>& fixed) {

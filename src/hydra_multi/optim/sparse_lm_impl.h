@@ -94,7 +94,7 @@ struct SparseLevenbergMarquardt::Impl {
     long variable;
     Vector6 value;
   };
-  std::vector<DeferredBlock> deferred_blocks;
+  std::vector<DeferredBlock> deferred_blocks;  // room for them all reserved by the analysis
   std::vector<DeferredRhs> deferred_rhs;
   size_t reduced = 0;  // variables in A
   // Per elimination, for the substitution: the Cholesky factor of D_v = L_v L_v^T, L_v^-1 rhs_v,
