@@ -70,8 +70,8 @@ std::optional<FillReducingOrdering> orderForCholesky(const std::vector<std::vect
       }
     }
     orderings[0] = orderBy(pattern, methods[0]);
-    for (size_t k = 1; k < methods.size(); ++k)
-      orderings[k] = k == 1 && second.valid() ? second.get() : orderBy(pattern, methods[k]);
+    if (methods.size() > 1)
+      orderings[1] = second.valid() ? second.get() : orderBy(pattern, methods[1]);
     for (std::optional<FillReducingOrdering>& ordering : orderings) {
       if (ordering && (!best || ordering->flops < best->flops)) best = std::move(ordering);
     }

@@ -118,25 +118,28 @@ void SparseLevenbergMarquardt::Impl::splitEliminations(size_t blocks) {
   elimination_split = best;
   // What the first thread writes of variables in A: their diagonal blocks and rhs segments, and
   // the blocks between two of them.
+  // Room for every deferred write is reserved, so that the second thread never allocates.
   std::vector<char> variable_written(variables, 0), block_written(blocks, 0);
   const auto inA = [&](long u) { return u != kNone && elimination_of[u] == kNone; };
+  size_t blocks_deferred = 0, rhs_deferred = 0;
   for (size_t k = 0; k < count; ++k) {
     Elimination& e = eliminations[k];
     e.deferred = 0;
     for (int n = 0; n < 2; ++n) {
       if (!inA(e.u[n])) continue;
       if (k < best) variable_written[e.u[n]] = 1;
-      if (k >= best && variable_written[e.u[n]]) e.deferred |= 1u << n;
+      if (k >= best && variable_written[e.u[n]]) {
+        e.deferred |= 1u << n;
+        ++blocks_deferred;
+        ++rhs_deferred;
+      }
     }
     if (e.u01 == kNone || !inA(e.u[0]) || !inA(e.u[1])) continue;
     if (k < best) block_written[e.u01] = 1;
-    if (k >= best && block_written[e.u01]) e.deferred |= 4u;
-  }
-  // Room for every deferred write, so that the second thread never allocates (nor throws).
-  size_t blocks_deferred = 0, rhs_deferred = 0;
-  for (const Elimination& e : eliminations) {
-    rhs_deferred += (e.deferred & 1u) + ((e.deferred >> 1) & 1u);
-    blocks_deferred += (e.deferred & 1u) + ((e.deferred >> 1) & 1u) + ((e.deferred >> 2) & 1u);
+    if (k >= best && block_written[e.u01]) {
+      e.deferred |= 4u;
+      ++blocks_deferred;
+    }
   }
   deferred_blocks.reserve(blocks_deferred);
   deferred_rhs.reserve(rhs_deferred);

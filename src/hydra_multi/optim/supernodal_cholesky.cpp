@@ -8,6 +8,7 @@
 #include <exception>
 #include <functional>
 #include <mutex>
+#include <numeric>
 #include <system_error>
 #include <thread>
 
@@ -132,6 +133,8 @@ SupernodalCholesky::SupernodalCholesky(const cholmod_factor& symbolic) {
       if (task_[s] == kTop) top_.push_back(s);
     }
   }
+  every_.resize(supernodes);
+  std::iota(every_.begin(), every_.end(), Int{0});
   next_.assign(supernodes, -1);
   lpos_.assign(supernodes, 0);
   linked_.assign(supernodes, Linked{});
@@ -148,7 +151,8 @@ bool SupernodalCholesky::factorize(const cholmod_sparse& A, cholmod_factor& L, i
   }
   std::vector<Int> head(supernodes, -1);
   factorized_ = 0;
-  if (threads < 2 || !two_threads_) return factorPart(A, L, nullptr, 0, false, head, work_[0]);
+  if (threads < 2 || !two_threads_)
+    return factorPart(A, L, every_.data(), every_.size(), false, head, work_[0]);
   // The subtrees, largest first, each to the thread free first; then the top part.
   std::vector<Int> head_1(supernodes, -1);
   std::atomic<size_t> next_task{0};
@@ -174,7 +178,7 @@ bool SupernodalCholesky::factorize(const cholmod_sparse& A, cholmod_factor& L, i
     run(0, head);
     second.join();
   } catch (const std::system_error&) {  // no second thread: nothing done yet, all on this one
-    return factorPart(A, L, nullptr, 0, false, head, work_[0]);
+    return factorPart(A, L, every_.data(), every_.size(), false, head, work_[0]);
   }
   for (const std::exception_ptr& failure : failed) {
     if (failure) std::rethrow_exception(failure);
@@ -191,8 +195,7 @@ bool SupernodalCholesky::factorize(const cholmod_sparse& A, cholmod_factor& L, i
     while (next_[tail] >= 0) tail = next_[tail];
     next_[tail] = head_1[s];
   }
-  // No top part where the tree is a forest of the subtrees (factorPart takes null as all).
-  return top_.empty() || factorPart(A, L, top_.data(), top_.size(), true, head, work_[0]);
+  return factorPart(A, L, top_.data(), top_.size(), true, head, work_[0]);
 }
 
 void SupernodalCholesky::substitute(const cholmod_factor& L, Int s, bool forward, double* x,
@@ -252,7 +255,6 @@ void SupernodalCholesky::solve(const cholmod_factor& L, double* x, int threads) 
 bool SupernodalCholesky::factorPart(const cholmod_sparse& A, cholmod_factor& L, const Int* only,
                                     size_t count, bool order_lists, std::vector<Int>& head,
                                     Workspace& work) {
-  const Int supernodes = static_cast<Int>(L.nsuper);
   const auto* super = static_cast<const Int*>(L.super);
   const auto* pi = static_cast<const Int*>(L.pi);
   const auto* px = static_cast<const Int*>(L.px);
@@ -264,8 +266,8 @@ bool SupernodalCholesky::factorPart(const cholmod_sparse& A, cholmod_factor& L, 
   const auto* Ax = static_cast<const double*>(A.x);
   const double one = 1.0, zero = 0.0;
   std::vector<Int> descendants;
-  for (size_t at = 0; at < (only != nullptr ? count : static_cast<size_t>(supernodes)); ++at) {
-    const Int s = only != nullptr ? only[at] : static_cast<Int>(at);
+  for (size_t at = 0; at < count; ++at) {
+    const Int s = only[at];
     ++factorized_;
     const Int k1 = super[s], k2 = super[s + 1], columns = k2 - k1;
     const Int first_row = pi[s], height = pi[s + 1] - first_row;

@@ -58,11 +58,11 @@ class SupernodalCholesky {
     Int at = -1;
     int64_t nth = 0;
   };
-  // Factorizes the `count` supernodes at `only` in order (null: every supernode), with the
-  // descendants' lists `head`; `order_lists`: each list sorted as one thread would have made it.
   // The forward substitution through supernode s, or the backward one; `gathered`: a buffer of
   // the supernode's rows below its columns.
   static void substitute(const cholmod_factor& L, Int s, bool forward, double* x, double* gathered);
+  // Factorizes the `count` supernodes at `only` in order (every_: all of them), with the
+  // descendants' lists `head`; `order_lists`: each list sorted as one thread would have made it.
   bool factorPart(const cholmod_sparse& A, cholmod_factor& L, const Int* only, size_t count,
                   bool order_lists, std::vector<Int>& head, Workspace& work);
 
@@ -70,7 +70,7 @@ class SupernodalCholesky {
   std::vector<Int> owner_;          // column -> its supernode
   std::vector<int32_t> task_;       // supernode -> its subtree's task, kTop, or kAll (one thread)
   std::vector<size_t> task_start_;  // the tasks' supernodes, in order: task t's from start[t]
-  std::vector<Int> task_members_, top_;
+  std::vector<Int> task_members_, top_, every_;  // every_: 0 .. nsuper - 1, one thread's order
   size_t max_rows_ = 0, max_update_ = 0;
   double total_flops_ = 0.0;
   bool two_threads_ = false;
