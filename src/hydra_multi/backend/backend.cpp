@@ -7,6 +7,7 @@
 #include <set>
 
 #include "hydra_multi/core/ascending_lookup.h"
+#include "hydra_multi/core/background_task.h"
 #include "hydra_multi/core/nearest_neighbors.h"
 
 namespace hydra_multi {
@@ -231,12 +232,11 @@ Backend::MapInProgress Backend::startBackendGraph(const SceneGraph& frontend, co
   MapInProgress made;
   std::promise<SceneGraph> copy;
   if (spare) made.spare = copy.get_future();
-  made.unplaced =
-      std::async(std::launch::async, [&frontend, &team, spare, copy = std::move(copy)]() mutable {
-        SceneGraph map = unplacedMap(frontend, team.inputs);
-        if (spare) copy.set_value(map);
-        return map;
-      });
+  made.unplaced = startInBackground([&frontend, &team, spare, copy = std::move(copy)]() mutable {
+    SceneGraph map = unplacedMap(frontend, team.inputs);
+    if (spare) copy.set_value(map);
+    return map;
+  });
   return made;
 }
 
@@ -253,7 +253,7 @@ void Backend::planMergesFor(const SceneGraph& frontend, const Team& team,
   }
   made.planned_kept = kept;
   ++made.plans;
-  made.planned = std::async(std::launch::async, [&, kept = std::move(kept)] {
+  made.planned = startInBackground([&, kept = std::move(kept)] {
     SceneGraph map = made.unplaced.get();
     MergePlan plan = planMerges(map, frontend, candidates, kept, team.meshes,
                                 options_.deformation.link_max_dt_s, options_.reconciliation);
@@ -383,7 +383,7 @@ BackendRoundReport Backend::round(const SceneGraph& frontend,
   report.gnc_s = lap() - result.whole_graph_s;
   recordVerdicts(team, inter_robot, result, report);
   // What the next round starts from, kept on the second thread while this one makes its graph.
-  std::future<void> remembered = std::async(std::launch::async, [&] {
+  std::future<void> remembered = startInBackground([&] {
     memory_.remember(frontend, graph, result, proposal_poses, proposals.held_out,
                      team.T_global_robot, options_.incremental);
   });

@@ -13,7 +13,8 @@
 //   4. the backend graph (optimized_map.h: unplacedMap, made on a second thread while steps 2
 //      and 3 solve, startBackendGraph; then placeBackendGraph), and the merges GNC kept or none
 //      (node_merging.h), made in it on that thread while the whole graph is solved, their
-//      positions fused once it is placed;
+//      positions fused once it is placed; those threads, and the one that keeps what the next
+//      round starts from, run at the lowest priority (core/background_task.h) beside the solve's;
 //   5. rooms segmented over the optimized places (room_segmentation.h).
 // Robots not aligned yet are left out of the backend graph until they are. Incremental rounds
 // (BackendOptions::incremental) start GNC where the last round ended (round_memory.h); a robot

@@ -11,6 +11,7 @@
 #include <set>
 
 #include "hydra_multi/core/ascending_lookup.h"
+#include "hydra_multi/core/background_task.h"
 #include "hydra_multi/optim/sparse_levenberg_marquardt.h"
 
 namespace hydra_multi {
@@ -258,7 +259,7 @@ DeformationResult optimizeDeformationGraph(
   std::future<void> analyzing;
   if (options.two_stage && options.final_iterations > 0 && options.whole_graph_analysis_ahead) {
     ahead = std::make_shared<SparseAnalyses>();
-    analyzing = std::async(std::launch::async, [&graph, &robust, &solver, &options, ahead] {
+    analyzing = startInBackground([&graph, &robust, &solver, &options, ahead] {
       try {
         analyzeWholeGraphAhead(graph, robust, solver.held_out, options, ahead);
       } catch (const std::exception&) {

@@ -1,8 +1,9 @@
 #pragma once
-// BackgroundRelease: objects handed over (keep) are destroyed on a second thread when release() is
-// called, instead of where their owner is done with them: freeing a large tree of maps costs its
-// owner nothing. One release runs at a time: release() and the destructor wait for the one before.
-// Not thread-safe: keep and release from one thread.
+// BackgroundRelease: objects handed over (keep) are destroyed on a second thread, at the lowest
+// priority (startInBackground, background_task.h), when release() is called, instead of where
+// their owner is done with them: freeing a large tree of maps costs its owner nothing. One
+// release runs at a time: release() and the destructor wait for the one before. Not thread-safe:
+// keep and release from one thread.
 
 #include <future>
 #include <memory>
@@ -10,6 +11,8 @@
 #include <type_traits>
 #include <utility>
 #include <vector>
+
+#include "hydra_multi/core/background_task.h"
 
 namespace hydra_multi {
 
@@ -36,8 +39,7 @@ class BackgroundRelease {
     std::vector<std::shared_ptr<void>> spent = std::move(kept_);
     kept_.clear();
     try {
-      releasing_ =
-          std::async(std::launch::async, [spent = std::move(spent)]() mutable { spent.clear(); });
+      releasing_ = startInBackground([spent = std::move(spent)]() mutable { spent.clear(); });
     } catch (const std::system_error&) {
       spent.clear();
     }
