@@ -65,6 +65,37 @@ TEST(PoseGraphOptimizer, RecoversTruthFromExactData) {
   }
 }
 
+// posesInto writes the solution in place into a map of the problem's nodes (the same entries,
+// the values poses() gives), and makes a map of other nodes anew.
+TEST(PoseGraphOptimizer, PosesWrittenInPlaceWhereTheMapHoldsTheProblemsNodes) {
+  std::mt19937 rng(83);
+  std::map<NodeId, Eigen::Isometry3d> truth;
+  const PoseGraph g = syntheticGraph(rng, 30, 0.01, truth);
+  const NodeId anchor('x', 0);
+  PoseGraphProblem problem(g, testing::perturbPoses(truth, anchor, 0.05, rng), anchor);
+  ASSERT_TRUE(problem.solve().usable);
+  const std::map<NodeId, Eigen::Isometry3d> solved = problem.poses();
+
+  std::map<NodeId, Eigen::Isometry3d> into = truth;
+  const Eigen::Isometry3d* entry = &into.at(NodeId('x', 5));
+  problem.posesInto(into);
+  EXPECT_EQ(&into.at(NodeId('x', 5)), entry);  // in place
+  ASSERT_EQ(into.size(), solved.size());
+  for (const auto& [id, T] : solved) EXPECT_EQ(into.at(id).matrix(), T.matrix());
+
+  for (auto other :
+       {std::map<NodeId, Eigen::Isometry3d>{},
+        std::map<NodeId, Eigen::Isometry3d>{{NodeId('y', 1), truth.begin()->second}}, truth}) {
+    if (other.size() == truth.size()) {  // as many nodes, one of them another
+      other.erase(std::prev(other.end()));
+      other.emplace(NodeId('y', 2), Eigen::Isometry3d::Identity());
+    }
+    problem.posesInto(other);
+    ASSERT_EQ(other.size(), solved.size());
+    for (const auto& [id, T] : solved) EXPECT_EQ(other.at(id).matrix(), T.matrix());
+  }
+}
+
 // Weights scale edges: a zero-weight wrong edge has no effect on the solution.
 TEST(PoseGraphOptimizer, ZeroWeightRemovesAnEdge) {
   std::mt19937 rng(82);

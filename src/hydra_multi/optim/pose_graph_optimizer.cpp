@@ -267,15 +267,35 @@ PoseGraphProblem& PoseGraphProblem::leaveOut(const std::vector<bool>& edges) {
   return *this;
 }
 
+namespace {
+
+Eigen::Isometry3d isometry(const PoseParameters& pose) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = pose.q.normalized().toRotationMatrix();
+  T.translation() = pose.t;
+  return T;
+}
+
+}  // namespace
+
 std::map<NodeId, Eigen::Isometry3d> PoseGraphProblem::poses() const {
   std::map<NodeId, Eigen::Isometry3d> result;
-  for (size_t i = 0; i < impl_->ids.size(); ++i) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = impl_->blocks[i].q.normalized().toRotationMatrix();
-    T.translation() = impl_->blocks[i].t;
-    result.emplace_hint(result.end(), impl_->ids[i], T);  // ids ascend (the constructor's map)
-  }
+  for (size_t i = 0; i < impl_->ids.size(); ++i)  // ids ascend (the constructor's map)
+    result.emplace_hint(result.end(), impl_->ids[i], isometry(impl_->blocks[i]));
   return result;
+}
+
+void PoseGraphProblem::posesInto(std::map<NodeId, Eigen::Isometry3d>& poses) const {
+  const std::vector<NodeId>& ids = impl_->ids;
+  bool same = poses.size() == ids.size();
+  auto it = poses.begin();
+  for (size_t i = 0; same && i < ids.size(); ++i, ++it) same = it->first == ids[i];
+  if (!same) {
+    poses = this->poses();
+    return;
+  }
+  it = poses.begin();
+  for (size_t i = 0; i < ids.size(); ++i, ++it) it->second = isometry(impl_->blocks[i]);
 }
 
 std::vector<double> PoseGraphProblem::squaredResiduals() const {

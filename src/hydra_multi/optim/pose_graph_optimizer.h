@@ -119,6 +119,9 @@ class PoseGraphProblem {
   PoseGraphProblem& leaveOut(const std::vector<bool>& edges);
 
   std::map<NodeId, Eigen::Isometry3d> poses() const;
+  /// The same poses written into `poses`: in place where it holds exactly the problem's nodes (no
+  /// allocation), made anew otherwise.
+  void posesInto(std::map<NodeId, Eigen::Isometry3d>& poses) const;
   /// Unweighted squared residual of every edge at the current poses (0 for excluded edges):
   /// the squared Mahalanobis norm for geodesic residuals, the chordal cost term for chordal ones.
   std::vector<double> squaredResiduals() const;

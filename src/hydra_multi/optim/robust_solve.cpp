@@ -19,7 +19,7 @@ SolveSummary solveOverInliers(const PoseGraph& graph, const std::vector<bool>& i
   PoseGraphProblem problem(inliers, poses, anchor, options.solver);
   if (!options.constant.empty()) problem.holdConstant(options.constant);
   const SolveSummary summary = problem.solve();
-  poses = problem.poses();
+  problem.posesInto(poses);
   return summary;
 }
 
@@ -124,7 +124,7 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
       schedule.mu_step = options.incremental_mu_step;
     result.gnc = runGnc(robust_edges.size(), solve, schedule,
                         options.gnc_from_initial_estimate ? &initial_r2 : nullptr);
-    result.poses = problem.poses();
+    problem.posesInto(result.poses);
     result.edge_weight = edge_weights;
     result.edge_inlier.assign(graph.edges.size(), true);
     for (size_t r = 0; r < robust_edges.size(); ++r)
@@ -185,7 +185,7 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
         problem.setOptions(options.solver);
         summary = problem.solve();
         problem.setOptions(inner);
-        result.poses = problem.poses();
+        problem.posesInto(result.poses);
       }
       if (!kept) record(summary);
 
@@ -230,7 +230,7 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
 
   if (!options.robust) {
     solve(std::vector<double>(robust_edges.size(), 1.0));
-    result.poses = problem.poses();
+    problem.posesInto(result.poses);
     result.edge_weight = edge_weights;
     result.edge_inlier.assign(graph.edges.size(), true);
   } else {
