@@ -56,6 +56,26 @@ TEST(MultiRobotAlignment, RecoversFramesAmongOutliers) {
   MultiRobotAlignmentOptions strict;
   strict.min_inliers = 9;  // each pair has 8 inliers
   EXPECT_EQ(alignRobotFrames(3, local, robot_of, edges, 0, strict).numAligned(), 1u);
+
+  // The pairs averaged on one thread, on two (one pair each) and on more threads than pairs, with
+  // and without consensus caches: the same alignment to the bit.
+  for (const size_t threads : {1u, 2u, 5u}) {
+    MultiRobotAlignmentOptions options;
+    options.threads = threads;
+    std::map<std::pair<size_t, size_t>, ConsensusCache> caches;
+    for (auto* cache : {static_cast<decltype(caches)*>(nullptr), &caches, &caches}) {
+      const MultiRobotAlignment again =
+          alignRobotFrames(3, local, robot_of, edges, 0, options, {}, cache);
+      EXPECT_EQ(again.edge_inlier, alignment.edge_inlier);
+      ASSERT_EQ(again.pairs.size(), alignment.pairs.size());
+      for (size_t p = 0; p < again.pairs.size(); ++p) {
+        EXPECT_EQ(again.pairs[p].T_a_b.matrix(), alignment.pairs[p].T_a_b.matrix());
+        EXPECT_EQ(again.pairs[p].inliers, alignment.pairs[p].inliers);
+      }
+      for (size_t r = 0; r < 3; ++r)
+        EXPECT_EQ(again.T_world_robot[r]->matrix(), alignment.T_world_robot[r]->matrix());
+    }
+  }
 }
 
 // A loop closure the frontend finds again (the same two keyframes) is no new evidence: eight

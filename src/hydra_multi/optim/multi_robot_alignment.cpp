@@ -1,7 +1,11 @@
 #include "hydra_multi/optim/multi_robot_alignment.h"
 
+#include "hydra_multi/core/parallel.h"
+
 #include <algorithm>
 #include <deque>
+#include <numeric>
+#include <optional>
 #include <set>
 
 namespace hydra_multi {
@@ -48,10 +52,31 @@ MultiRobotAlignment alignRobotFrames(
     pair.edges.push_back(k);
     pair.support.push_back(k < edge_support.size() ? edge_support[k] : 1.0);
   }
-  // eq. (2) per pair.
+  // eq. (2) per pair, the pairs with the most estimates first, shared out over the threads in
+  // turn; each pair's consensus cache made before (the map is not touched on the threads).
+  std::vector<const PairEstimates*> pairs;
+  std::vector<ConsensusCache*> caches;
   for (const auto& [key, pair] : by_pair) {
-    auto average = robustPoseAverage(pair.estimates, options.averaging, pair.support,
-                                     consensus != nullptr ? &(*consensus)[key] : nullptr);
+    pairs.push_back(&pair);
+    caches.push_back(consensus != nullptr ? &(*consensus)[key] : nullptr);
+  }
+  std::vector<size_t> largest_first(pairs.size());
+  std::iota(largest_first.begin(), largest_first.end(), size_t{0});
+  std::stable_sort(largest_first.begin(), largest_first.end(), [&pairs](size_t x, size_t y) {
+    return pairs[x]->estimates.size() > pairs[y]->estimates.size();
+  });
+  std::vector<std::optional<Result<PoseAverage>>> averages(pairs.size());
+  const size_t threads = std::max<size_t>(1, std::min(options.threads, pairs.size()));
+  runOnThreads(threads, [&](size_t t) {
+    for (size_t i = t; i < largest_first.size(); i += threads) {
+      const size_t p = largest_first[i];
+      averages[p] =
+          robustPoseAverage(pairs[p]->estimates, options.averaging, pairs[p]->support, caches[p]);
+    }
+  });
+  size_t index = 0;
+  for (const auto& [key, pair] : by_pair) {
+    const Result<PoseAverage>& average = *averages[index++];
     if (!average) continue;
     RobotPairAlignment alignment;
     alignment.robot_a = key.first;

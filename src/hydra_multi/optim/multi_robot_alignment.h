@@ -28,6 +28,9 @@ struct MultiRobotAlignmentOptions {
     options.information.diagonal() << 1.0, 1.0, 1.0, 100.0, 100.0, 100.0;
     return options;
   }();
+  /// Threads that average the robot pairs (eq. (2)); each pair's average is its own, so the
+  /// result does not depend on them.
+  size_t threads = 2;
 };
 
 struct RobotPairAlignment {
