@@ -91,6 +91,17 @@ TEST(Reconciliation, ThreeRobotsCopiesMergeIntoOne) {
       {NodeId::station('O', kA, 0), NodeId::station('O', kB, 0)},
       {NodeId::station('O', kA, 0), NodeId::station('O', kC, 0)}};
   EXPECT_EQ(got, expected);
+
+  // One layer alone: the places' candidates first in the full list, then the objects'.
+  const auto places = proposeMerges(g, T, {}, nullptr, Layer::kPlaces);
+  const auto objects = proposeMerges(g, T, {}, nullptr, Layer::kObjects);
+  ASSERT_EQ(places.size() + objects.size(), candidates.size());
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    const MergeCandidate& one = i < places.size() ? places[i] : objects[i - places.size()];
+    EXPECT_EQ(one.layer, i < places.size() ? Layer::kPlaces : Layer::kObjects);
+    EXPECT_EQ(one.target, candidates[i].target);
+    EXPECT_EQ(one.source, candidates[i].source);
+  }
 }
 
 // A crowd of four robots' places and objects of three labels, close enough that most nodes have

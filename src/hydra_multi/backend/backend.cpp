@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <future>
+#include <iterator>
 #include <optional>
 #include <set>
 
@@ -151,10 +152,19 @@ Backend::Proposals Backend::proposeOnLoopClosureSolve(
   report.loop_closure_solve_s = std::chrono::duration<double>(solve_end - start).count();
   const SolvedNodes nodes =
       solvedNodes(frontend, team.inputs, graph, solved, options_.deformation.link_max_dt_s);
-  proposals.candidates = refineObjectMerges(
-      proposeMerges(frontend, team.T_global_robot, options_.reconciliation, &nodes.positions),
-      frontend, team.T_global_robot, team.meshes, options_.reconciliation, &nodes.motion,
-      incremental() ? &icp_cache_ : nullptr);
+  // The objects' candidates and their ICP on a second thread while this one proposes the
+  // places'; the places' first, as proposeMerges lists them (ICP passes a place's through).
+  std::future<std::vector<MergeCandidate>> objects = std::async(std::launch::async, [&] {
+    return refineObjectMerges(proposeMerges(frontend, team.T_global_robot, options_.reconciliation,
+                                            &nodes.positions, Layer::kObjects),
+                              frontend, team.T_global_robot, team.meshes, options_.reconciliation,
+                              &nodes.motion, incremental() ? &icp_cache_ : nullptr);
+  });
+  proposals.candidates = proposeMerges(frontend, team.T_global_robot, options_.reconciliation,
+                                       &nodes.positions, Layer::kPlaces);
+  std::vector<MergeCandidate> refined = objects.get();
+  proposals.candidates.insert(proposals.candidates.end(), std::make_move_iterator(refined.begin()),
+                              std::make_move_iterator(refined.end()));
   report.candidates_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - solve_end).count();
   spent_.keep(std::move(graph));

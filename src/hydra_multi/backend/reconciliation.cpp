@@ -99,15 +99,19 @@ Eigen::Vector3d globalPosition(NodeId id, const Eigen::Vector3d& aligned,
 
 std::vector<MergeCandidate> proposeMerges(
     const SceneGraph& frontend, const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
-    const ReconciliationOptions& options, const std::map<NodeId, Eigen::Vector3d>* optimized) {
+    const ReconciliationOptions& options, const std::map<NodeId, Eigen::Vector3d>* optimized,
+    std::optional<Layer> only) {
   std::vector<Item> places, objects;
+  const bool want_places = !only || *only == Layer::kPlaces;
+  const bool want_objects = !only || *only == Layer::kObjects;
   for (const auto& [robot, T] : T_global_robot) {
     for (const Node* robot_node : frontend.robotNodes(robot)) {
       const Node& node = *robot_node;
+      const bool place = node.layer() == Layer::kPlaces, object = node.layer() == Layer::kObjects;
+      if (!(place && want_places) && !(object && want_objects)) continue;
       const NodeId id = node.id;
       const Eigen::Vector3d p = globalPosition(id, T * node.position, optimized);
-      if (node.layer() == Layer::kPlaces) places.push_back({id, robot, p, &node});
-      if (node.layer() == Layer::kObjects) objects.push_back({id, robot, p, &node});
+      (place ? places : objects).push_back({id, robot, p, &node});
     }
   }
   const auto one_kind = [](const Item&) { return 0u; };

@@ -86,11 +86,13 @@ struct MergeCandidate {
 /// `frontend` (each robot's nodes in its own frame). `optimized`, when given, holds global
 /// positions of nodes from the previous round's optimization, used instead of the aligned ones:
 /// the merge factors are tested against the optimized graph, where drift no longer separates the
-/// robots' copies of a place.
+/// robots' copies of a place. The places' candidates come first, then the objects'; `only` (kPlaces
+/// or kObjects) gives those of one layer alone, the same as in the full list.
 std::vector<MergeCandidate> proposeMerges(
     const SceneGraph& frontend, const std::map<RobotId, Eigen::Isometry3d>& T_global_robot,
     const ReconciliationOptions& options = {},
-    const std::map<NodeId, Eigen::Vector3d>* optimized = nullptr);
+    const std::map<NodeId, Eigen::Vector3d>* optimized = nullptr,
+    std::optional<Layer> only = std::nullopt);
 
 /// ICP's verdicts on object pairs (target, source), kept for the next check. ICP's result, the
 /// checks on it and the factor's measurement depend only on the two objects' vertices and how they
