@@ -1,5 +1,6 @@
 // The executables' allocator: built with HYDRA_MULTI_JEMALLOC, malloc is jemalloc's, so its count
-// of the bytes this thread allocated grows by what malloc hands out.
+// of the bytes this thread allocated grows by what malloc hands out, and it runs with the options
+// the executables give it (core/jemalloc_options.cpp) unless MALLOC_CONF says otherwise.
 
 #include <gtest/gtest.h>
 
@@ -31,6 +32,18 @@ TEST(Allocator, MallocIsJemallocWhenLinked) {
   const uint64_t after = allocated();
   std::free(block);
   EXPECT_GE(after - before, kBytes);
+#endif
+}
+
+TEST(Allocator, JemallocAsksForTransparentHugePages) {
+#ifndef HYDRA_MULTI_JEMALLOC
+  GTEST_SKIP() << "built without jemalloc (HYDRA_MULTI_JEMALLOC off, or under the sanitizers)";
+#else
+  if (std::getenv("MALLOC_CONF") != nullptr) GTEST_SKIP() << "MALLOC_CONF set: the user's options";
+  const char* thp = nullptr;
+  size_t size = sizeof(thp);
+  ASSERT_EQ(mallctl("opt.thp", &thp, &size, nullptr, 0), 0);
+  EXPECT_STREQ(thp, "always");
 #endif
 }
 
