@@ -1,12 +1,12 @@
 #include "hydra_multi/optim/multi_robot_alignment.h"
 
-#include "hydra_multi/core/parallel.h"
-
 #include <algorithm>
 #include <deque>
 #include <numeric>
 #include <optional>
 #include <set>
+
+#include "hydra_multi/core/parallel.h"
 
 namespace hydra_multi {
 
