@@ -1,12 +1,13 @@
 // The station at team scale (issue 22): for each run folder of `run` (metrics.json, timing.csv),
 // the final graph's size, the backend's time per round (median, max while the robots mapped; the
-// last round, from scratch on the final state, apart) and per stage (the last
+// last round, from scratch on the final state once they are done, apart) and per stage (the last
 // round's, and each stage's share of all rounds; and so for the time in its pose-graph solves,
 // their factorizations and analyses), the frontend's time per update, the peak memory (and
 // per robot) and the accuracy; and a plot of every round's backend time against the deformation
 // graph's poses, one colour per team; then which of issue 22's targets the teams that have one meet
 // (a team known by the dataset in its run's inputs.json: office-3 seed 1, 10 robots at scale 2, 20
-// at scale 3). Build in Release (`make bench-scale` runs the teams first).
+// at scale 3): the targets of online rounds on the rounds while the robots mapped, the last round
+// shown beside them. Build in Release (`make bench-scale` runs the teams first).
 //
 //   bench_scale OUT.svg LABEL=RUN_DIR [LABEL=RUN_DIR ...]
 
@@ -94,6 +95,16 @@ double number(const nlohmann::json& j, const char* key) {
   return j.contains(key) && j[key].is_number() ? j[key].get<double>() : std::nan("");
 }
 
+// The robots' speed the run was made at (`run --speed`; runs of older builds do not say).
+std::string speedOf(const Team& t) {
+  const double speed = number(t.metrics, "speed");
+  if (std::isnan(speed)) return "-";
+  if (speed <= 0) return "as fast as possible";
+  char text[32];
+  std::snprintf(text, sizeof(text), "%gx real time", speed);
+  return text;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -118,10 +129,10 @@ int main(int argc, char** argv) {
     teams.push_back(std::move(team));
   }
   std::printf(
-      "| team | robots aligned | final poses / factors / nodes | backend rounds | round median "
-      "/ max (s) | last round, from scratch (s) | frontend per update median / max (ms) | peak "
-      "memory (MB), per robot | ATE (m) | objects found (%%) |\n"
-      "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
+      "| team | run speed | robots aligned | final poses / factors / nodes | backend rounds | "
+      "round median / max (s) | last round, from scratch (s) | frontend per update median / max "
+      "(ms) | peak memory (MB), per robot | ATE (m) | objects found (%%) |\n"
+      "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
   for (const Team& t : teams) {
     // The rounds while the robots mapped; the last, from scratch, apart.
     std::vector<double> ms;
@@ -132,11 +143,12 @@ int main(int argc, char** argv) {
     char last_s[32] = "-";
     if (last.from_scratch) std::snprintf(last_s, sizeof(last_s), "%.2f", last.ms / 1e3);
     std::printf(
-        "| %s | %.0f of %.0f | %.0f / %.0f / %.0f | %zu | %.2f / %.2f | %s | %.1f / %.1f | %.0f, "
-        "%.0f | %.3f | %.1f |\n",
-        t.label.c_str(), number(t.metrics, "robots_aligned"), number(t.metrics, "robots"),
-        last.poses, last.factors, last.nodes, t.rounds.size(), median(ms) / 1e3,
-        *std::max_element(ms.begin(), ms.end()) / 1e3, last_s, median(t.frontend_ms),
+        "| %s | %s | %.0f of %.0f | %.0f / %.0f / %.0f | %zu | %.2f / %.2f | %s | %.1f / %.1f | "
+        "%.0f, %.0f | %.3f | %.1f |\n",
+        t.label.c_str(), speedOf(t).c_str(), number(t.metrics, "robots_aligned"),
+        number(t.metrics, "robots"), last.poses, last.factors, last.nodes, t.rounds.size(),
+        median(ms) / 1e3, *std::max_element(ms.begin(), ms.end()) / 1e3, last_s,
+        median(t.frontend_ms),
         t.frontend_ms.empty() ? 0.0 : *std::max_element(t.frontend_ms.begin(), t.frontend_ms.end()),
         number(t.metrics, "peak_memory_mb"),
         number(t.metrics, "peak_memory_mb") / std::max(1.0, number(t.metrics, "robots")),
@@ -179,9 +191,13 @@ int main(int argc, char** argv) {
       "rounds' time\n\n| team | Levenberg-Marquardt | of it factorizations | analyses |\n| --- | "
       "--- | --- | --- |\n");
   for (const Team& t : teams) shareRow(t, 3, &Round::solver_ms);
-  // Issue 22's targets, for the teams that have one (by the dataset in the run's inputs.json):
-  // every round, the last one from scratch included.
-  std::printf("\nIssue 22's targets\n\n| target | measured | met |\n| --- | --- | --- |\n");
+  // Issue 22's targets, for the teams that have one (by the dataset in the run's inputs.json): the
+  // targets of online rounds on the rounds while the robots mapped; the last round, from scratch
+  // once they are done (docs/DECISIONS.md "The station's last round starts from scratch"), beside
+  // them.
+  std::printf(
+      "\nIssue 22's targets: the rounds while the robots mapped (the last round, from scratch once "
+      "they are done, beside them)\n\n| target | measured | met |\n| --- | --- | --- |\n");
   double frontend_low = INFINITY, frontend_high = 0.0;
   for (const Team& t : teams) {
     const double frontend = median(t.frontend_ms);
@@ -193,30 +209,37 @@ int main(int argc, char** argv) {
     const int seed = d.value("seed", 0), robots = d.value("robots", 0);
     const double scale = d.value("scale", 0.0);
     if (preset != "office-3") continue;
-    double mapping = 0.0, last = 0.0;
-    std::vector<double> all;
+    double last = 0.0;
+    std::vector<double> mapping;
     for (const Round& r : t.rounds) {
-      double& worst = r.from_scratch ? last : mapping;
-      worst = std::max(worst, r.ms / 1e3);
-      all.push_back(r.ms / 1e3);
+      if (r.from_scratch) {
+        last = r.ms / 1e3;
+      } else {
+        mapping.push_back(r.ms / 1e3);
+      }
     }
-    const double worst = std::max(mapping, last);
+    if (mapping.empty()) continue;
+    const double worst = *std::max_element(mapping.begin(), mapping.end());
+    const std::string at = std::isnan(number(t.metrics, "speed")) ? "" : " at " + speedOf(t);
     if (robots == 3 && scale == 1.0 && seed == 1) {
-      const double round_median = median(all);
+      const double round_median = median(mapping);
       const char* met = round_median <= 0.2 && worst <= 0.5 ? "yes" : "no";
       std::printf(
-          "| office-3 seed 1: round median within 0.2 s, max within 0.5 s | median %.2f s, "
-          "max %.2f s while mapping, the last round %.2f s | %s |\n",
-          round_median, mapping, last, met);
+          "| office-3 seed 1: round median within 0.2 s, max within 0.5 s | median %.2f s, max "
+          "%.2f s in %zu rounds%s; the last round %.2f s | %s |\n",
+          round_median, worst, mapping.size(), at.c_str(), last, met);
     }
     const double limit_s = robots == 10 && scale == 2.0   ? 2.0
                            : robots == 20 && scale == 3.0 ? 5.0
                                                           : 0;
     if (limit_s > 0) {
+      const auto over = std::count_if(mapping.begin(), mapping.end(),
+                                      [limit_s](double s) { return s > limit_s; });
       std::printf(
-          "| %s: every round within %.0f s | max %.2f s while mapping, the last round "
+          "| %s: every round within %.0f s | max %.2f s, %td of %zu rounds over%s; the last round "
           "%.2f s | %s |\n",
-          t.label.c_str(), limit_s, mapping, last, worst <= limit_s ? "yes" : "no");
+          t.label.c_str(), limit_s, worst, over, mapping.size(), at.c_str(), last,
+          over == 0 ? "yes" : "no");
     }
     if (robots == 20 && scale == 3.0) {
       const double mb = number(t.metrics, "peak_memory_mb");

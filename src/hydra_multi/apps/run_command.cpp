@@ -242,6 +242,7 @@ int runRun(const RunOptions& o) {
       {"peak_memory_mb", times.peak_memory_mb},
       {"frontend_digest", digestHex(result.frontend_digest)},
       {"wall_s", result.wall_s},
+      {"speed", o.speed},
       {"method", o.baseline.empty() ? o.ablation : o.baseline}};
   metrics.update(extra);
   std::ofstream(out / "metrics.json") << metrics.dump(2) << "\n";
