@@ -3,6 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdlib>
+#include <limits>
+#include <map>
+#include <optional>
+#include <string>
+
 #include "hydra_multi/dsg/graph_delta.h"
 #include "hydra_multi/dsg/io/binary_format.h"
 #include "hydra_multi/dsg/robot_stream.h"
@@ -278,6 +285,95 @@ TEST(SceneGraphProcessor, ItsDeltasKeepACopyOfItsGraph) {
   EXPECT_GT(outcomes_refused, 1u);  // the refused update, and robot a's after it
   EXPECT_GT(taken, arrivals.size() / 2);
   EXPECT_TRUE(processor.takeDeltas().empty());
+}
+
+// The objects per label and a robot's keyframe nearest a time, by a pass over the graph.
+std::map<uint32_t, size_t> objectsPerLabelByPass(const SceneGraph& graph) {
+  std::map<uint32_t, size_t> count;
+  for (const NodeId id : graph.nodesInLayer(Layer::kObjects))
+    ++count[graph.getNode(id).semantic()->label];
+  return count;
+}
+
+std::optional<NodeId> keyframeNearestByPass(const SceneGraph& graph, RobotId robot,
+                                            int64_t time_ns) {
+  std::optional<NodeId> best;
+  int64_t best_gap = std::numeric_limits<int64_t>::max();
+  for (const NodeId id : graph.nodesOfRobot(robot, Layer::kAgents)) {  // in id order
+    const int64_t gap =
+        std::llabs(graph.getNode(id).find<AgentAttributes>()->timestamp_ns - time_ns);
+    if (gap < best_gap) {
+      best_gap = gap;
+      best = id;
+    }
+  }
+  return best;
+}
+
+void expectIndexesFollowTheGraph(const SceneGraphProcessor& processor, const std::string& when) {
+  const SceneGraph& graph = processor.graph();
+  EXPECT_EQ(processor.objectsPerLabel(), objectsPerLabelByPass(graph)) << when;
+  // Times from a second before the first stamp to a second after the last, 300 of them, and every
+  // stamp itself.
+  std::vector<int64_t> times;
+  for (const NodeId id : graph.nodesInLayer(Layer::kAgents))
+    times.push_back(graph.getNode(id).find<AgentAttributes>()->timestamp_ns);
+  if (times.empty()) return;
+  const auto [low, high] = std::minmax_element(times.begin(), times.end());
+  const int64_t first = *low - 1000000000, span = *high - *low + 2000000000;
+  for (int k = 0; k <= 300; ++k) times.push_back(first + span / 300 * k);
+  for (const RobotId robot : {kA, kB, kC}) {
+    for (const int64_t t : times) {
+      ASSERT_EQ(processor.keyframeNearest(robot, t), keyframeNearestByPass(graph, robot, t))
+          << when << ", robot " << robot.str() << ", t " << t;
+    }
+  }
+}
+
+// The objects per label and the keyframes by time follow the graph through real updates, swapped
+// and refused ones, a snapshot, removals, a label that changes and a keyframe re-stamped; of two
+// keyframes as near a time, the one with the smaller id.
+TEST(SceneGraphProcessor, ItsIndexesFollowTheGraph) {
+  auto dataset = sim::simulateDataset(sim::presetConfig("tiny", 2).value());
+  ASSERT_TRUE(dataset.ok());
+  const auto& streams = dataset.value().streams;
+  std::vector<RobotUpdate> arrivals;
+  for (size_t i = 0; i < std::max(streams[0].size(), streams[1].size()); ++i) {
+    for (const auto& stream : streams) {
+      if (i < stream.size()) arrivals.push_back(stream[i]);
+    }
+  }
+  std::swap(arrivals[6], arrivals[8]);
+  arrivals[12].graph.nodes.back().position.x() = std::nan("");  // refused: robot a waits
+  RobotStreamState sent;
+  for (const RobotUpdate& u : streams[0]) ASSERT_TRUE(sent.add(u).ok());
+  SceneGraphProcessor processor;
+  for (size_t i = 0; i < arrivals.size(); ++i) {
+    processor.process(arrivals[i]);
+    expectIndexesFollowTheGraph(processor, "after arrival " + std::to_string(i));
+  }
+  ASSERT_GT(processor.objectsPerLabel().size(), 1u);
+  ASSERT_EQ(processor.process(sent.snapshot()).outcome, UpdateOutcome::kApplied);
+  expectIndexesFollowTheGraph(processor, "after the snapshot");
+
+  // Robot c: keyframes 0 and 2 s apart from 1 (ties), an object relabelled, one removed, a
+  // keyframe re-stamped.
+  SceneGraphProcessor own;
+  for (uint64_t s = 0; s < 4; ++s)
+    ASSERT_EQ(own.process(step(kC, s)).outcome, UpdateOutcome::kApplied);
+  RobotUpdate change = step(kC, 4);
+  change.graph.nodes.push_back(object(1, Eigen::Vector3d(1, 1, 0), 9));
+  change.graph.removed_nodes.push_back(NodeId('O', 2));
+  Node restamped = keyframe(kC, 3, Eigen::Vector3d(3, 0, 0));
+  restamped.find<AgentAttributes>()->timestamp_ns = 1000000000;  // as keyframe 1's
+  change.graph.nodes.push_back(restamped);
+  ASSERT_EQ(own.process(change).outcome, UpdateOutcome::kApplied);
+  expectIndexesFollowTheGraph(own, "after the changes");
+  EXPECT_EQ(own.objectsPerLabel(), (std::map<uint32_t, size_t>{{5, 3}, {9, 1}}));
+  // 1 s: keyframes 1 and 3 (re-stamped), the smaller id; 3 s: keyframes 2 and 4 a second away.
+  EXPECT_EQ(own.keyframeNearest(kC, 1000000000), NodeId::station('c', kC, 1));
+  EXPECT_EQ(own.keyframeNearest(kC, 3000000000), NodeId::station('c', kC, 2));
+  EXPECT_EQ(own.keyframeNearest(kA, 0), std::nullopt);
 }
 
 void expectSameRobotState(const SceneGraphProcessor& a, const SceneGraphProcessor& b,

@@ -21,22 +21,6 @@ T median(std::vector<T> values) {
   return values[values.size() / 2];
 }
 
-// The keyframe of `robot` whose stamp is nearest `time_ns`.
-std::optional<NodeId> keyframeNearest(const SceneGraph& graph, RobotId robot, int64_t time_ns) {
-  std::optional<NodeId> best;
-  int64_t best_gap = std::numeric_limits<int64_t>::max();
-  for (const NodeId id : graph.nodesOfRobot(robot, Layer::kAgents)) {
-    const AgentAttributes* agent = graph.getNode(id).find<AgentAttributes>();
-    if (agent == nullptr) continue;
-    const int64_t gap = std::llabs(agent->timestamp_ns - time_ns);
-    if (gap < best_gap) {
-      best_gap = gap;
-      best = id;
-    }
-  }
-  return best;
-}
-
 }  // namespace
 
 const char* loopClosureSourceName(DetectedLoopClosure::Source source) {
@@ -75,7 +59,6 @@ std::vector<DetectedLoopClosure> LoopClosureDetector::run(const SceneGraphProces
                                                           bool all) {
   std::vector<DetectedLoopClosure> found;
   const SceneGraph& graph = processor.graph();
-  labels_counted_ = false;
   std::vector<NodeId> later;
   for (const NodeId id : pending_) {
     const Node* node = graph.findNode(id);
@@ -232,10 +215,10 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::verifyObjects(
       query_times.push_back(pairs[i].first->last_update_time_ns);
       candidate_times.push_back(pairs[i].second->last_update_time_ns);
     }
-    closure.keyframe_a = keyframeNearest(graph, candidate.robot, median(candidate_times))
+    closure.keyframe_a = processor.keyframeNearest(candidate.robot, median(candidate_times))
                              .value_or(candidate.d.keyframe);
     closure.keyframe_b =
-        keyframeNearest(graph, query.robot, median(query_times)).value_or(query.d.keyframe);
+        processor.keyframeNearest(query.robot, median(query_times)).value_or(query.d.keyframe);
   }
   closure.T_a_b = nodePose(graph.getNode(closure.keyframe_a)).inverse() * T_candidate_query *
                   nodePose(graph.getNode(closure.keyframe_b));
@@ -243,21 +226,12 @@ std::optional<DetectedLoopClosure> LoopClosureDetector::verifyObjects(
                                                  std::pow(options_.object_rotation_sigma, 2));
   closure.source = DetectedLoopClosure::Source::kObjects;
   closure.inliers = registration.value().inliers.size();
-  if (!labels_counted_) {
-    label_objects_.clear();
-    objects_ = 0;
-    for (const NodeId id : graph.nodesInLayer(Layer::kObjects)) {
-      if (const auto* semantic = graph.getNode(id).semantic()) {
-        ++label_objects_[semantic->label];
-        ++objects_;
-      }
-    }
-    labels_counted_ = true;
-  }
+  const std::map<uint32_t, size_t>& label_objects = processor.objectsPerLabel();
+  const size_t objects = graph.numNodes(Layer::kObjects);
   for (const size_t i : registration.value().inliers) {
-    const auto n = label_objects_.find(pairs[i].first->semantic()->label);
-    const size_t count = n == label_objects_.end() ? 1 : std::max<size_t>(1, n->second);
-    closure.distinctiveness += std::log(double(std::max(objects_, count)) / double(count));
+    const auto n = label_objects.find(pairs[i].first->semantic()->label);
+    const size_t count = n == label_objects.end() ? 1 : std::max<size_t>(1, n->second);
+    closure.distinctiveness += std::log(double(std::max(objects, count)) / double(count));
   }
   return closure;
 }

@@ -133,11 +133,6 @@ class LoopClosureDetector {
   std::unordered_map<uint32_t, std::vector<std::pair<uint32_t, double>>> word_postings_;
   /// The same per object label: a query's objects score against every described keyframe.
   std::unordered_map<uint32_t, std::vector<std::pair<uint32_t, double>>> label_postings_;
-  /// Objects per label in the graph and in all, counted at most once per run() (the graph is
-  /// fixed then), when an object match first needs them.
-  std::map<uint32_t, size_t> label_objects_;
-  size_t objects_ = 0;
-  bool labels_counted_ = false;
   std::vector<DetectedLoopClosure> found_;
 };
 

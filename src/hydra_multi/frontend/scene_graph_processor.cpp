@@ -1,5 +1,6 @@
 #include "hydra_multi/frontend/scene_graph_processor.h"
 
+#include <cstdlib>
 #include <functional>
 
 #include "hydra_multi/dsg/graph_delta.h"
@@ -223,9 +224,19 @@ Status SceneGraphProcessor::apply(RobotSlot& slot, const RobotUpdate& update,
     descriptors.push_back(std::move(mapped));
   }
 
-  // All checked but what applyDelta checks itself; it changes nothing when it fails.
-  if (Status status = applyDelta(graph_, delta); !status)
+  // All checked but what applyDelta checks itself; it changes nothing when it fails. The nodes
+  // it removes or changes leave the indexes first, and those it leaves or makes come back.
+  std::set<NodeId> touched = removed;
+  touched.insert(added.begin(), added.end());
+  const auto reindex = [&](int sign) {
+    for (const NodeId id : touched) index(id, sign);
+  };
+  reindex(-1);
+  if (Status status = applyDelta(graph_, delta); !status) {
+    reindex(+1);
     return Error{at + ": " + status.message()};
+  }
+  reindex(+1);
 
   RobotStateDelta changed;
   changed.robot = robot;
@@ -249,6 +260,47 @@ Status SceneGraphProcessor::apply(RobotSlot& slot, const RobotUpdate& update,
   report.nodes_removed += delta.removed_nodes.size();
   if (keep_deltas_) deltas_.push_back({std::move(delta), std::move(changed)});
   return Status::Ok();
+}
+
+void SceneGraphProcessor::index(NodeId id, int sign) {
+  const Node* node = graph_.findNode(id);
+  if (node == nullptr) return;
+  if (node->layer() == Layer::kObjects) {
+    const uint32_t label = node->semantic()->label;
+    if (sign > 0) {
+      ++objects_per_label_[label];
+    } else if (--objects_per_label_[label] == 0) {
+      objects_per_label_.erase(label);
+    }
+  }
+  const auto* agent = node->find<AgentAttributes>();
+  const auto robot = node->robot();
+  if (agent == nullptr || !robot) return;
+  auto& by_time = keyframe_times_[*robot];
+  if (sign > 0) {
+    by_time[agent->timestamp_ns].insert(id);
+    return;
+  }
+  const auto at = by_time.find(agent->timestamp_ns);
+  at->second.erase(id);
+  if (at->second.empty()) by_time.erase(at);
+}
+
+std::optional<NodeId> SceneGraphProcessor::keyframeNearest(RobotId robot, int64_t time_ns) const {
+  const auto of_robot = keyframe_times_.find(robot);
+  if (of_robot == keyframe_times_.end() || of_robot->second.empty()) return std::nullopt;
+  const auto& by_time = of_robot->second;
+  // The first stamp at or after time_ns, and the last before it: the nearest is one of them.
+  const auto after = by_time.lower_bound(time_ns);
+  std::optional<std::pair<int64_t, NodeId>> best;  // (gap, id)
+  const auto consider = [&](const auto& entry) {
+    const std::pair<int64_t, NodeId> candidate{std::llabs(entry.first - time_ns),
+                                               *entry.second.begin()};
+    if (!best || candidate < *best) best = candidate;
+  };
+  if (after != by_time.end()) consider(*after);
+  if (after != by_time.begin()) consider(*std::prev(after));
+  return best->second;
 }
 
 void applyStateDelta(RobotFrontendState& state, const RobotStateDelta& delta) {

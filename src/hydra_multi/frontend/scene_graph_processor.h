@@ -16,7 +16,9 @@
 // robot and the sequence number.
 //
 // Each robot's mesh, pose graph (odometry and its own loop closures), deformation graph and
-// keyframe descriptors are kept beside the graph, per robot, in station ids.
+// keyframe descriptors are kept beside the graph, per robot, in station ids. Two indexes follow
+// the graph as updates apply, for the loop-closure detector: the objects per semantic label, and
+// each robot's keyframes by time.
 
 #include <cstdint>
 #include <functional>
@@ -105,6 +107,12 @@ class SceneGraphProcessor {
   /// The frame a node is in (its robot's, until the backend has aligned that robot).
   std::optional<RobotId> frameOf(NodeId station) const;
 
+  /// Per semantic label, how many objects graph() holds (a label with none: no entry).
+  const std::map<uint32_t, size_t>& objectsPerLabel() const { return objects_per_label_; }
+  /// The robot's keyframe (an agent node with its stamp) whose stamp is nearest `time_ns`; of
+  /// several as near, the one with the smallest id. nullopt: the robot has none.
+  std::optional<NodeId> keyframeNearest(RobotId robot, int64_t time_ns) const;
+
   /// What became of every update so far, over all robots; updates refused before a robot could
   /// be told (an invalid robot id) are counted as rejected.
   UpdateCounts counts() const;
@@ -127,6 +135,8 @@ class SceneGraphProcessor {
   RobotSlot& slot(RobotId robot);
   UpdateReport finish(UpdateReport report) const;
   Status apply(RobotSlot& slot, const RobotUpdate& update, UpdateReport& report);
+  // Counts graph_'s node `id` in the indexes below (+1) or takes it out of them (-1).
+  void index(NodeId id, int sign);
 
   ProcessorOptions options_;
   Logger log_;
@@ -135,6 +145,9 @@ class SceneGraphProcessor {
   std::vector<AppliedDelta> deltas_;  // applied since takeDeltas, with keep_deltas_
   std::map<RobotId, RobotSlot> robots_;
   size_t refused_without_robot_ = 0;  // updates whose robot id is not valid
+  std::map<uint32_t, size_t> objects_per_label_;
+  // Per robot, its keyframes' ids by stamp.
+  std::map<RobotId, std::map<int64_t, std::set<NodeId>>> keyframe_times_;
 };
 
 }  // namespace hydra_multi
