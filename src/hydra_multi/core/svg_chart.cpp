@@ -7,9 +7,11 @@
 namespace hydra_multi::svg {
 
 const char* colour(size_t series) {
-  static const char* const kColours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728",
-                                         "#9467bd", "#8c564b", "#e377c2", "#7f7f7f"};
-  return kColours[series % 8];
+  // Eight tones, then eight more of the same palette (lighter, or olive and cyan).
+  static const char* const kColours[] = {
+      "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
+      "#bcbd22", "#17becf", "#aec7e8", "#ffbb78", "#98df8a", "#ff9896", "#c5b0d5", "#c49c94"};
+  return kColours[series % 16];
 }
 
 std::string fixed(double v, int decimals) {

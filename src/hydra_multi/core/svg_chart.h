@@ -7,7 +7,7 @@
 
 namespace hydra_multi::svg {
 
-/// One colour per series, in order (cycled after 8).
+/// One colour per series, in order (cycled after 16).
 const char* colour(size_t series);
 /// `v` with `decimals` digits after the point.
 std::string fixed(double v, int decimals);
