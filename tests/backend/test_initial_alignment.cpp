@@ -127,6 +127,46 @@ TEST(InitialAlignment, RealignsOnlyOnLargeDisagreement) {
   EXPECT_EQ(alignment.realignments(), 1u);
 }
 
+// With realign_against_verdicts, a robot whose optimized start lies far from the estimate's is
+// re-aligned only where the optimization rejected the loop closures the estimate holds: a map
+// that keeps them (a start moved by drift) keeps its frame; one that rejected them, or decided
+// none of them, is re-aligned; without the option the distance alone decides.
+TEST(InitialAlignment, RealignsAgainstTheOptimizationsVerdicts) {
+  const Team t = team(2);
+  const RobotId a(0), b(1);
+  const auto edges = closures(t, a, b, 10, 0, 4);
+  const auto verdicts = [&](bool kept) {
+    std::map<std::pair<NodeId, NodeId>, bool> v;
+    for (const PoseGraphEdge& e : edges) v[{e.from, e.to}] = kept;
+    return v;
+  };
+  const std::map<std::pair<NodeId, NodeId>, bool> all_kept = verdicts(true),
+                                                  all_rejected = verdicts(false), none;
+  InitialAlignmentOptions options;
+  options.realign_against_verdicts = true;
+  const auto realigned = [&](const InitialAlignmentOptions& o,
+                             const std::map<std::pair<NodeId, NodeId>, bool>& given) {
+    InitialAlignment alignment(o);
+    alignment.update(t.frontend, edges, a);
+    Eigen::Isometry3d far = alignment.aligned().at(b).T_global_robot;
+    far.translation().x() += 15.0;
+    alignment.update(t.frontend, edges, a, {{b, far}}, {}, false, &given);
+    EXPECT_EQ(alignment.realignments() + alignment.realignmentsAgreed(), 1u);
+    return alignment.realignments() == 1;
+  };
+  EXPECT_FALSE(realigned(options, all_kept));
+  EXPECT_TRUE(realigned(options, all_rejected));
+  EXPECT_TRUE(realigned(options, none));
+  EXPECT_TRUE(realigned(InitialAlignmentOptions{}, all_kept));
+  // Below the share: three of ten rejected, against the default half.
+  std::map<std::pair<NodeId, NodeId>, bool> three_of_ten = all_kept;
+  size_t k = 0;
+  for (auto& [edge, kept] : three_of_ten) kept = k++ % 4 != 0;
+  EXPECT_FALSE(realigned(options, three_of_ten));
+  options.realign_rejected_share = 0.2;
+  EXPECT_TRUE(realigned(options, three_of_ten));
+}
+
 // A round afresh takes this round's estimate, whatever the optimized result says, and counts no
 // re-alignment; the next ordinary round keeps it.
 TEST(InitialAlignment, ARoundAfreshTakesTheEstimate) {

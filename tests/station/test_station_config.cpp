@@ -25,13 +25,16 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_DOUBLE_EQ(options.backend.deformation.local_deferred_share, 0.6);
   EXPECT_DOUBLE_EQ(options.backend.alignment.realign_fit_share, 1.0);
   EXPECT_DOUBLE_EQ(options.backend.alignment.realign_fit_m, 2.0);
+  EXPECT_FALSE(options.backend.alignment.realign_against_verdicts);
+  EXPECT_DOUBLE_EQ(options.backend.alignment.realign_rejected_share, 0.5);
   EXPECT_EQ(options.keep_freed_mb, 3072u);
   const Status s = applyStationConfig(R"({
       "loop_closures": {"object_ambiguity_ratio": 0, "object_rival_distance": 2.5,
                         "anchor_objects": false},
       "alignment": {"min_inliers": 7, "sigma_translation_m": 0.25, "realign_threshold_m": 4,
                     "decline_refuted": false, "refuted_within_m": 2.5, "weigh_support": false,
-                    "realign_fit_share": 0.5, "realign_fit_m": 3},
+                    "realign_fit_share": 0.5, "realign_fit_m": 3,
+                    "realign_against_verdicts": true, "realign_rejected_share": 0.25},
       "deformation": {"two_stage": false, "final_iterations": 0, "mesh_variance": 0.001,
                       "gnc_mu_step": 2.0, "gnc_incremental_mu_step": 1, "link_max_dt_s": 0,
                       "odometry_rotation_variance": 0.01, "reduce_chains": true,
@@ -61,6 +64,8 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_FALSE(options.backend.alignment.weigh_support);
   EXPECT_DOUBLE_EQ(options.backend.alignment.realign_fit_share, 0.5);
   EXPECT_DOUBLE_EQ(options.backend.alignment.realign_fit_m, 3.0);
+  EXPECT_TRUE(options.backend.alignment.realign_against_verdicts);
+  EXPECT_DOUBLE_EQ(options.backend.alignment.realign_rejected_share, 0.25);
   EXPECT_FALSE(options.backend.deformation.two_stage);
   EXPECT_EQ(options.backend.deformation.final_iterations, 0);
   EXPECT_DOUBLE_EQ(options.backend.deformation.mesh_variance, 0.001);
@@ -127,6 +132,8 @@ TEST(StationConfig, ErrorsNameTheProblemAndChangeNothing) {
       {R"({"alignment": {"min_inliers": 2.5}})", "alignment.min_inliers: expected an integer"},
       {R"({"alignment": {"realign_fit_share": 1.5}})",
        "alignment.realign_fit_share: expected a number >= 0.0 and <= 1.0"},
+      {R"({"alignment": {"realign_rejected_share": -0.5}})",
+       "alignment.realign_rejected_share: expected a number >= 0.0 and <= 1.0"},
       {R"({"alignment": {"realign_fit_m": 0}})", "alignment.realign_fit_m: expected a number > 0"},
       {R"({"rooms": {"min_threshold": 2.0, "max_threshold": 1.0}})", "min_threshold is above"},
       {R"({"reconciliation": {"enabled": false}, "rooms": {"thresholds": "12"}})",

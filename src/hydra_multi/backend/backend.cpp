@@ -86,7 +86,7 @@ void Backend::align(const SceneGraph& frontend, const std::vector<BackendRobot>&
     for (const BackendRobot& robot : robots) aligned_[robot.robot];
   } else {
     aligned_ = alignment_.update(frontend, inter_robot, root, optimized_first_keyframes_, support,
-                                 from_scratch_);
+                                 from_scratch_, &inliers_);
   }
 }
 

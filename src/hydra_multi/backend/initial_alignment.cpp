@@ -31,7 +31,8 @@ double fittingSupport(const std::vector<PoseGraphEdge>& edges, const std::vector
 const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
     const SceneGraph& frontend, const std::vector<PoseGraphEdge>& inter_robot,
     RobotId preferred_root, const std::map<RobotId, Eigen::Isometry3d>& optimized_first_keyframes,
-    const std::vector<double>& support, bool afresh) {
+    const std::vector<double>& support, bool afresh,
+    const std::map<std::pair<NodeId, NodeId>, bool>* verdicts) {
   if (!root_) root_ = preferred_root;
   const RobotId root = *root_;
   // Robots in a dense order, the root first.
@@ -114,6 +115,24 @@ const std::map<RobotId, RobotFrameAlignment>& InitialAlignment::update(
           (*result.T_world_robot[i] * poses[first->second.second]).translation();
       const Eigen::Vector3d by_map = optimized_first->second.translation();
       if ((by_estimate - by_map).norm() <= options_.realign_threshold_m) continue;
+      if (options_.realign_against_verdicts && verdicts != nullptr) {
+        // The robot's loop closures the estimate holds, as the optimization decided them.
+        double decided = 0.0, rejected = 0.0;
+        for (size_t k = 0; k < edges.size(); ++k) {
+          if (!result.edge_inlier[k] ||
+              (robot_of[edges[k].from] != i && robot_of[edges[k].to] != i))
+            continue;
+          const auto verdict = verdicts->find({edges[k].from, edges[k].to});
+          if (verdict == verdicts->end()) continue;
+          const double weight = weigh ? edge_support[k] : 1.0;
+          decided += weight;
+          if (!verdict->second) rejected += weight;
+        }
+        if (decided > 0.0 && rejected < options_.realign_rejected_share * decided) {
+          ++agreed_;
+          continue;
+        }
+      }
       const auto tried = tried_.find(robot);
       if (options_.decline_refuted && tried != tried_.end() &&
           (tried->second.optimized - by_map).norm() <= options_.refuted_within_m &&

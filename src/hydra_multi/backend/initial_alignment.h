@@ -16,7 +16,9 @@
 // than realign_threshold_m (the pose of the robot's first keyframe after optimization against the
 // one the estimate gives), the optimization has not already refuted that estimate
 // (decline_refuted), and, where the estimate is a new frame, the new frames fit as much of the
-// robots' inter-robot loop closures (by support) as the kept ones (realign_fit_share). A robot not
+// robots' inter-robot loop closures (by support) as the kept ones (realign_fit_share), and, with
+// realign_against_verdicts, the optimization rejected enough of the loop closures the estimate
+// rests on. A robot not
 // aligned yet stays in its own frame and takes no part in merging. A round afresh (the station's
 // last) takes every robot's estimate from this round's loop closures, so its alignments do not
 // depend on when earlier rounds ran; a robot this round cannot align keeps the alignment it had.
@@ -69,6 +71,14 @@ struct InitialAlignmentOptions {
   /// Take every round's estimate (no optimized result to check it against: the baselines
   /// without joint optimization).
   bool always_realign = false;
+  /// Re-align only a robot the map disagrees with: where the caller gives the optimization's
+  /// verdicts on the inter-robot loop closures and it decided some of the robot's loop closures
+  /// that the estimate holds as inliers, the robot is re-aligned only if it rejected at least
+  /// realign_rejected_share of them (by support, as weigh_support). Over long paths a start
+  /// placed by a frame fitted where the loop closures are can lie tens of metres from a map that
+  /// keeps every one of them (odometric drift). false: the distance alone.
+  bool realign_against_verdicts = false;
+  double realign_rejected_share = 0.5;
 };
 
 struct RobotFrameAlignment {
@@ -87,12 +97,14 @@ class InitialAlignment {
   /// when given, holds the
   /// backend's optimized global pose of each aligned robot's first keyframe, for the
   /// re-alignment rule. `support`, when given, holds one weight per inter-robot loop closure for
-  /// the consensus (weigh_support). `afresh`: take every estimate (see above). Returns the robots
-  /// aligned after this round.
+  /// the consensus (weigh_support). `afresh`: take every estimate (see above). `verdicts`, when
+  /// given: the optimization's last verdict on each inter-robot loop closure ((from, to) -> kept),
+  /// for realign_against_verdicts. Returns the robots aligned after this round.
   const std::map<RobotId, RobotFrameAlignment>& update(
       const SceneGraph& frontend, const std::vector<PoseGraphEdge>& inter_robot, RobotId root,
       const std::map<RobotId, Eigen::Isometry3d>& optimized_first_keyframes = {},
-      const std::vector<double>& support = {}, bool afresh = false);
+      const std::vector<double>& support = {}, bool afresh = false,
+      const std::map<std::pair<NodeId, NodeId>, bool>* verdicts = nullptr);
 
   const std::map<RobotId, RobotFrameAlignment>& aligned() const { return aligned_; }
   bool isAligned(RobotId robot) const { return aligned_.count(robot) != 0; }
@@ -105,6 +117,9 @@ class InitialAlignment {
   size_t realignmentsDeclined() const { return declined_; }
   /// Re-alignments not made: the estimated frame fit less of the loop closures (realign_fit_share).
   size_t realignmentsUnfit() const { return unfit_; }
+  /// Re-alignments not made: the optimization kept the robot's loop closures that the estimate
+  /// holds (realign_against_verdicts).
+  size_t realignmentsAgreed() const { return agreed_; }
   /// Times the global frame moved to a preferred root that joined late.
   size_t rootChanges() const { return root_changes_; }
   /// Per inter-robot loop closure (from, to) of the last round: an inlier of its pair's average.
@@ -118,6 +133,7 @@ class InitialAlignment {
   size_t realignments_ = 0;
   size_t declined_ = 0;
   size_t unfit_ = 0;
+  size_t agreed_ = 0;
   /// Per robot re-aligned, its start by the estimate it took and as optimized before.
   struct Tried {
     Eigen::Vector3d estimate, optimized;
