@@ -369,12 +369,13 @@ TEST(MergePlan, PlacedAfterMakesWhatMergingThePlacedGraphMakes) {
 
 // A robot new or re-aligned since the last round starts afresh: the round takes none of the last
 // round's verdicts that touch it, and reports it. With a re-alignment threshold of 0, robot b is
-// re-aligned every round its estimate and its optimized start differ; with the default, once
-// aligned it keeps its alignment.
+// re-aligned every round its estimate and its optimized start differ (the distance alone decides,
+// not the optimization's verdicts); with the default, once aligned it keeps its alignment.
 TEST_F(TinyTeam, RobotsNewOrRealignedStartAfresh) {
   const std::vector<RobotUpdate> updates = updatesInTimeOrder();
   BackendOptions always = options();
   always.alignment.realign_threshold_m = 0.0;
+  always.alignment.realign_against_verdicts = false;  // the distance alone decides
   Backend realigning(always), keeping(options());
   SceneGraphProcessor processor;
   LoopClosureDetector detector;

@@ -127,10 +127,10 @@ TEST(InitialAlignment, RealignsOnlyOnLargeDisagreement) {
   EXPECT_EQ(alignment.realignments(), 1u);
 }
 
-// With realign_against_verdicts, a robot whose optimized start lies far from the estimate's is
-// re-aligned only where the optimization rejected the loop closures the estimate holds: a map
-// that keeps them (a start moved by drift) keeps its frame; one that rejected them, or decided
-// none of them, is re-aligned; without the option the distance alone decides.
+// With realign_against_verdicts (the default), a robot whose optimized start lies far from the
+// estimate's is re-aligned only where the optimization rejected the loop closures the estimate
+// holds: a map that keeps them (a start moved by drift) keeps its frame; one that rejected them, or
+// decided none of them, is re-aligned; without the option the distance alone decides.
 TEST(InitialAlignment, RealignsAgainstTheOptimizationsVerdicts) {
   const Team t = team(2);
   const RobotId a(0), b(1);
@@ -142,8 +142,8 @@ TEST(InitialAlignment, RealignsAgainstTheOptimizationsVerdicts) {
   };
   const std::map<std::pair<NodeId, NodeId>, bool> all_kept = verdicts(true),
                                                   all_rejected = verdicts(false), none;
-  InitialAlignmentOptions options;
-  options.realign_against_verdicts = true;
+  InitialAlignmentOptions options, distance_alone;
+  distance_alone.realign_against_verdicts = false;
   const auto realigned = [&](const InitialAlignmentOptions& o,
                              const std::map<std::pair<NodeId, NodeId>, bool>& given) {
     InitialAlignment alignment(o);
@@ -157,7 +157,7 @@ TEST(InitialAlignment, RealignsAgainstTheOptimizationsVerdicts) {
   EXPECT_FALSE(realigned(options, all_kept));
   EXPECT_TRUE(realigned(options, all_rejected));
   EXPECT_TRUE(realigned(options, none));
-  EXPECT_TRUE(realigned(InitialAlignmentOptions{}, all_kept));
+  EXPECT_TRUE(realigned(distance_alone, all_kept));
   // Below the share: three of ten rejected, against the default half.
   std::map<std::pair<NodeId, NodeId>, bool> three_of_ten = all_kept;
   size_t k = 0;

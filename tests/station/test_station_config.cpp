@@ -25,7 +25,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_DOUBLE_EQ(options.backend.deformation.local_deferred_share, 0.6);
   EXPECT_DOUBLE_EQ(options.backend.alignment.realign_fit_share, 1.0);
   EXPECT_DOUBLE_EQ(options.backend.alignment.realign_fit_m, 2.0);
-  EXPECT_FALSE(options.backend.alignment.realign_against_verdicts);
+  EXPECT_TRUE(options.backend.alignment.realign_against_verdicts);
   EXPECT_DOUBLE_EQ(options.backend.alignment.realign_rejected_share, 0.5);
   EXPECT_EQ(options.keep_freed_mb, 3072u);
   const Status s = applyStationConfig(R"({
@@ -34,7 +34,7 @@ TEST(StationConfig, KeysSetOptions) {
       "alignment": {"min_inliers": 7, "sigma_translation_m": 0.25, "realign_threshold_m": 4,
                     "decline_refuted": false, "refuted_within_m": 2.5, "weigh_support": false,
                     "realign_fit_share": 0.5, "realign_fit_m": 3,
-                    "realign_against_verdicts": true, "realign_rejected_share": 0.25},
+                    "realign_against_verdicts": false, "realign_rejected_share": 0.25},
       "deformation": {"two_stage": false, "final_iterations": 0, "mesh_variance": 0.001,
                       "gnc_mu_step": 2.0, "gnc_incremental_mu_step": 1, "link_max_dt_s": 0,
                       "odometry_rotation_variance": 0.01, "reduce_chains": true,
@@ -64,7 +64,7 @@ TEST(StationConfig, KeysSetOptions) {
   EXPECT_FALSE(options.backend.alignment.weigh_support);
   EXPECT_DOUBLE_EQ(options.backend.alignment.realign_fit_share, 0.5);
   EXPECT_DOUBLE_EQ(options.backend.alignment.realign_fit_m, 3.0);
-  EXPECT_TRUE(options.backend.alignment.realign_against_verdicts);
+  EXPECT_FALSE(options.backend.alignment.realign_against_verdicts);
   EXPECT_DOUBLE_EQ(options.backend.alignment.realign_rejected_share, 0.25);
   EXPECT_FALSE(options.backend.deformation.two_stage);
   EXPECT_EQ(options.backend.deformation.final_iterations, 0);

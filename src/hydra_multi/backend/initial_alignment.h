@@ -77,7 +77,7 @@ struct InitialAlignmentOptions {
   /// realign_rejected_share of them (by support, as weigh_support). Over long paths a start
   /// placed by a frame fitted where the loop closures are can lie tens of metres from a map that
   /// keeps every one of them (odometric drift). false: the distance alone.
-  bool realign_against_verdicts = false;
+  bool realign_against_verdicts = true;
   double realign_rejected_share = 0.5;
 };
 

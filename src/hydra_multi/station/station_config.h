@@ -10,7 +10,7 @@
 //     "alignment":      {"min_inliers": 5, "sigma_translation_m": 0.5, "sigma_rotation_rad": 0.05,
 //                        "realign_threshold_m": 10.0, "decline_refuted": true,
 //                        "refuted_within_m": 1.0, "weigh_support": true,
-//                        "realign_against_verdicts": false, "realign_rejected_share": 0.5},
+//                        "realign_against_verdicts": true, "realign_rejected_share": 0.5},
 //     "deformation":    {"odometry_variance": 0.01, "loop_closure_variance": 0.05,
 //                        "mesh_variance": 0.01, "odometry_rotation_variance": 0.0001,
 //                        "link_max_dt_s": 10.0, "two_stage": true, "final_iterations": 10,
