@@ -18,10 +18,10 @@
 // (decline_refuted), and, where the estimate is a new frame, the new frames fit as much of the
 // robots' inter-robot loop closures (by support) as the kept ones (realign_fit_share), and, with
 // realign_against_verdicts, the optimization rejected enough of the loop closures the estimate
-// rests on. A robot not
-// aligned yet stays in its own frame and takes no part in merging. A round afresh (the station's
-// last) takes every robot's estimate from this round's loop closures, so its alignments do not
-// depend on when earlier rounds ran; a robot this round cannot align keeps the alignment it had.
+// rests on. A robot not aligned yet stays in its own frame and takes no part in merging. A round
+// afresh (the station's last) takes every robot's estimate from this round's loop closures, so its
+// alignments do not depend on when earlier rounds ran; a robot this round cannot align keeps the
+// alignment it had.
 //
 // The global frame is the root's: the robot the caller prefers (the station: robot a, or the
 // lowest robot it has data of). It stays where it was first put; when a lower robot is preferred
@@ -94,10 +94,9 @@ class InitialAlignment {
   /// One round. `frontend`: the graph of every robot's keyframes in station ids, each robot in its
   /// own frame; `inter_robot`: loop closures between keyframes of different robots (T_from_to);
   /// `root`: the robot whose frame should be global (see above). `optimized_first_keyframes`,
-  /// when given, holds the
-  /// backend's optimized global pose of each aligned robot's first keyframe, for the
-  /// re-alignment rule. `support`, when given, holds one weight per inter-robot loop closure for
-  /// the consensus (weigh_support). `afresh`: take every estimate (see above). `verdicts`, when
+  /// when given, holds the backend's optimized global pose of each aligned robot's first
+  /// keyframe, for the re-alignment rule. `support`, when given, holds one weight per inter-robot
+  /// loop closure for the consensus (weigh_support). `afresh`: take every estimate (see above). `verdicts`, when
   /// given: the optimization's last verdict on each inter-robot loop closure ((from, to) -> kept),
   /// for realign_against_verdicts. Returns the robots aligned after this round.
   const std::map<RobotId, RobotFrameAlignment>& update(
