@@ -96,9 +96,10 @@ class InitialAlignment {
   /// `root`: the robot whose frame should be global (see above). `optimized_first_keyframes`,
   /// when given, holds the backend's optimized global pose of each aligned robot's first
   /// keyframe, for the re-alignment rule. `support`, when given, holds one weight per inter-robot
-  /// loop closure for the consensus (weigh_support). `afresh`: take every estimate (see above). `verdicts`, when
-  /// given: the optimization's last verdict on each inter-robot loop closure ((from, to) -> kept),
-  /// for realign_against_verdicts. Returns the robots aligned after this round.
+  /// loop closure for the consensus (weigh_support). `afresh`: take every estimate (see above).
+  /// `verdicts`, when given: the optimization's last verdict on each inter-robot loop closure
+  /// ((from, to) -> kept), for realign_against_verdicts. Returns the robots aligned after this
+  /// round.
   const std::map<RobotId, RobotFrameAlignment>& update(
       const SceneGraph& frontend, const std::vector<PoseGraphEdge>& inter_robot, RobotId root,
       const std::map<RobotId, Eigen::Isometry3d>& optimized_first_keyframes = {},
