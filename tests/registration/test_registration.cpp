@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <random>
 
 #include "hydra_multi/core/se3.h"
@@ -152,6 +153,21 @@ TEST(TlsRegistration, FailsClearlyWithoutEnoughInliers) {
   const auto result = tlsRegistration(c.source, c.target, {});
   ASSERT_FALSE(result.ok());
   EXPECT_NE(result.error().find("fewer than 5"), std::string::npos);
+}
+
+// A coordinate that is not finite is an error naming its correspondence, on either side.
+TEST(TlsRegistration, NonFiniteCoordinateIsAnErrorNamingIt) {
+  Correspondences c = make(40, 20, 0.02, someTransform(), 13);
+  ASSERT_TRUE(tlsRegistration(c.source, c.target, {}).ok());
+  c.target[17].y() = std::numeric_limits<double>::quiet_NaN();
+  auto result = tlsRegistration(c.source, c.target, {});
+  ASSERT_FALSE(result.ok());
+  EXPECT_NE(result.error().find("correspondence 17 "), std::string::npos) << result.error();
+  c.target[17].y() = 0.0;
+  c.source[3].x() = std::numeric_limits<double>::infinity();
+  result = tlsRegistration(c.source, c.target, {});
+  ASSERT_FALSE(result.ok());
+  EXPECT_NE(result.error().find("correspondence 3 "), std::string::npos) << result.error();
 }
 
 // A row of look-alike rooms registers once per room shift: the rival of the true registration is

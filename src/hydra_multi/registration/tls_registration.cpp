@@ -1,12 +1,51 @@
 #include "hydra_multi/registration/tls_registration.h"
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "hydra_multi/optim/gnc.h"
 #include "hydra_multi/registration/closed_form.h"
 #include "hydra_multi/registration/max_clique.h"
 
 namespace hydra_multi {
+namespace {
+
+// The distinct points of `points` (equal coordinates: one point), each point's place among them,
+// and their distances: distance[a * count + b] = ||p_a - p_b||, the same value both ways.
+struct DistinctPoints {
+  std::vector<size_t> index;
+  size_t count = 0;
+  std::vector<double> distance;
+};
+
+DistinctPoints distinctPoints(const std::vector<Eigen::Vector3d>& points) {
+  DistinctPoints d;
+  std::vector<size_t> order(points.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  const auto less = [&points](size_t a, size_t b) {
+    return std::lexicographical_compare(points[a].data(), points[a].data() + 3, points[b].data(),
+                                        points[b].data() + 3);
+  };
+  std::sort(order.begin(), order.end(), less);
+  std::vector<size_t> first;  // per distinct point, an index of it in `points`
+  d.index.resize(points.size());
+  for (size_t k = 0; k < order.size(); ++k) {
+    if (k == 0 || less(order[k - 1], order[k])) first.push_back(order[k]);
+    d.index[order[k]] = first.size() - 1;
+  }
+  d.count = first.size();
+  d.distance.assign(d.count * d.count, 0.0);
+  for (size_t a = 0; a < d.count; ++a) {
+    for (size_t b = a + 1; b < d.count; ++b) {
+      d.distance[a * d.count + b] = d.distance[b * d.count + a] =
+          (points[first[a]] - points[first[b]]).norm();
+    }
+  }
+  return d;
+}
+
+}  // namespace
 
 Result<RegistrationResult> tlsRegistration(const std::vector<Eigen::Vector3d>& source,
                                            const std::vector<Eigen::Vector3d>& target,
@@ -15,16 +54,24 @@ Result<RegistrationResult> tlsRegistration(const std::vector<Eigen::Vector3d>& s
     return Error{"tls registration: " + std::to_string(source.size()) + " source and " +
                  std::to_string(target.size()) + " target points"};
   const size_t n = source.size();
+  for (size_t i = 0; i < n; ++i) {
+    if (!source[i].allFinite() || !target[i].allFinite())
+      return Error{"tls registration: correspondence " + std::to_string(i) +
+                   " has a coordinate that is not finite"};
+  }
   const size_t needed = std::max<size_t>(3, options.min_inliers);
   if (n < needed)
     return Error{"tls registration: " + std::to_string(n) + " correspondences, fewer than " +
                  std::to_string(needed)};
-  // 1-2: pairwise consistency and its maximum clique.
+  // 1-2: pairwise consistency and its maximum clique. The distances between each side's
+  // distinct points, computed once (every same-label pair shares its points with others).
+  const DistinctPoints s = distinctPoints(source), t = distinctPoints(target);
   std::vector<std::vector<size_t>> adjacency(n);
   for (size_t i = 0; i < n; ++i) {
+    const double* ds = &s.distance[s.index[i] * s.count];
+    const double* dt = &t.distance[t.index[i] * t.count];
     for (size_t j = i + 1; j < n; ++j) {
-      const double ds = (source[i] - source[j]).norm(), dt = (target[i] - target[j]).norm();
-      if (std::abs(ds - dt) <= 2.0 * options.noise_bound) {
+      if (std::abs(ds[s.index[j]] - dt[t.index[j]]) <= 2.0 * options.noise_bound) {
         adjacency[i].push_back(j);
         adjacency[j].push_back(i);
       }

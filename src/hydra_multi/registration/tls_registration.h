@@ -8,6 +8,7 @@
 //   3. GNC with truncated least squares (optim/gnc.h) over the clique, each weighted solve a
 //      closed-form weighted alignment (closed_form.h): residuals above noise_bound are outliers;
 //   4. at least min_inliers inliers (Hydra-Multi: 5), refit on them.
+// A coordinate that is not finite is an error naming its correspondence.
 
 #include <vector>
 
