@@ -127,6 +127,12 @@ TEST(MaxClique, PlantedAndBruteForce) {
     }
   }
   EXPECT_EQ(maximumClique(adjacency).members, planted);
+  // The same graph given as bit rows.
+  AdjacencyBits bits(n);
+  for (size_t i = 0; i < n; ++i) {
+    for (const size_t j : adjacency[i]) bits.connect(i, j);
+  }
+  EXPECT_EQ(maximumClique(bits).members, planted);
 }
 
 // TLS with max-clique pruning recovers a known transform with 50 % and with 90 % outliers.

@@ -6,20 +6,19 @@
 namespace hydra_multi {
 namespace {
 
+// The set bits of w, inline (SWAR): __builtin_popcountll is a library call on a baseline x86-64
+// build, and counting is most of the pivot's choice.
+inline size_t bitCount(uint64_t w) {
+  w -= (w >> 1) & 0x5555555555555555ull;
+  w = (w & 0x3333333333333333ull) + ((w >> 2) & 0x3333333333333333ull);
+  w = (w + (w >> 4)) & 0x0f0f0f0f0f0f0f0full;
+  return static_cast<size_t>((w * 0x0101010101010101ull) >> 56);
+}
+
 class CliqueSearch {
  public:
-  CliqueSearch(const std::vector<std::vector<size_t>>& adjacency, size_t max_steps)
-      : max_steps_(max_steps), n_(adjacency.size()), words_((n_ + 63) / 64) {
-    bits_.assign(n_ * words_, 0);
-    for (size_t i = 0; i < n_; ++i) {
-      for (const size_t j : adjacency[i]) {
-        if (j < n_ && j != i) {
-          set(i, j);
-          set(j, i);
-        }
-      }
-    }
-  }
+  CliqueSearch(const AdjacencyBits& adjacency, size_t max_steps)
+      : max_steps_(max_steps), n_(adjacency.size()), words_(adjacency.words()), bits_(adjacency) {}
 
   CliqueResult run() {
     Set all(words_, 0);
@@ -37,18 +36,16 @@ class CliqueSearch {
   // A set of vertices as a bit mask (words_ words); its members are visited in increasing order.
   using Set = std::vector<uint64_t>;
 
-  void set(size_t i, size_t j) { bits_[i * words_ + j / 64] |= uint64_t{1} << (j % 64); }
-  bool adjacent(size_t i, size_t j) const { return (bits_[i * words_ + j / 64] >> (j % 64)) & 1u; }
+  bool adjacent(size_t i, size_t j) const { return (bits_.row(i)[j / 64] >> (j % 64)) & 1u; }
   static size_t count(const Set& s) {
     size_t n = 0;
-    for (const uint64_t w : s) n += static_cast<size_t>(__builtin_popcountll(w));
+    for (const uint64_t w : s) n += bitCount(w);
     return n;
   }
   // The members of `s` adjacent to u.
   size_t degree(size_t u, const Set& s) const {
     size_t n = 0;
-    for (size_t w = 0; w < words_; ++w)
-      n += static_cast<size_t>(__builtin_popcountll(bits_[u * words_ + w] & s[w]));
+    for (size_t w = 0; w < words_; ++w) n += bitCount(bits_.row(u)[w] & s[w]);
     return n;
   }
   template <typename Visit>
@@ -84,7 +81,7 @@ class CliqueSearch {
         const size_t v = w * 64 + static_cast<size_t>(__builtin_ctzll(bits));
         if (v != pivot && adjacent(pivot, v)) continue;
         if (clique.size() + remaining_size <= best_.size()) return;
-        for (size_t x = 0; x < words_; ++x) next[x] = remaining[x] & bits_[v * words_ + x];
+        for (size_t x = 0; x < words_; ++x) next[x] = remaining[x] & bits_.row(v)[x];
         clique.push_back(v);
         expand(clique, next);
         clique.pop_back();
@@ -97,14 +94,24 @@ class CliqueSearch {
 
   size_t max_steps_, steps_ = 0;
   size_t n_, words_;
-  std::vector<uint64_t> bits_;
+  const AdjacencyBits& bits_;
   std::vector<size_t> best_;
 };
 
 }  // namespace
 
-CliqueResult maximumClique(const std::vector<std::vector<size_t>>& adjacency, size_t max_steps) {
+CliqueResult maximumClique(const AdjacencyBits& adjacency, size_t max_steps) {
   return CliqueSearch(adjacency, max_steps).run();
+}
+
+CliqueResult maximumClique(const std::vector<std::vector<size_t>>& adjacency, size_t max_steps) {
+  AdjacencyBits bits(adjacency.size());
+  for (size_t i = 0; i < adjacency.size(); ++i) {
+    for (const size_t j : adjacency[i]) {
+      if (j < adjacency.size()) bits.connect(i, j);
+    }
+  }
+  return maximumClique(bits, max_steps);
 }
 
 }  // namespace hydra_multi

@@ -66,15 +66,13 @@ Result<RegistrationResult> tlsRegistration(const std::vector<Eigen::Vector3d>& s
   // 1-2: pairwise consistency and its maximum clique. The distances between each side's
   // distinct points, computed once (every same-label pair shares its points with others).
   const DistinctPoints s = distinctPoints(source), t = distinctPoints(target);
-  std::vector<std::vector<size_t>> adjacency(n);
+  AdjacencyBits adjacency(n);
   for (size_t i = 0; i < n; ++i) {
     const double* ds = &s.distance[s.index[i] * s.count];
     const double* dt = &t.distance[t.index[i] * t.count];
     for (size_t j = i + 1; j < n; ++j) {
-      if (std::abs(ds[s.index[j]] - dt[t.index[j]]) <= 2.0 * options.noise_bound) {
-        adjacency[i].push_back(j);
-        adjacency[j].push_back(i);
-      }
+      if (std::abs(ds[s.index[j]] - dt[t.index[j]]) <= 2.0 * options.noise_bound)
+        adjacency.connect(i, j);
     }
   }
   const std::vector<size_t> clique = maximumClique(adjacency, options.max_clique_steps).members;
