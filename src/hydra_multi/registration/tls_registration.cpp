@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
+#include <cstdint>
+#include <cstring>
+#include <limits>
 
 #include "hydra_multi/optim/gnc.h"
 #include "hydra_multi/registration/closed_form.h"
@@ -11,28 +13,44 @@
 namespace hydra_multi {
 namespace {
 
-// The distinct points of `points` (equal coordinates: one point), each point's place among them,
-// and their distances: distance[a * count + b] = ||p_a - p_b||, the same value both ways.
+// The distinct points of `points` (equal coordinates: one point, found by an open-addressing hash
+// of the coordinates' bits), each point's number among them in order of first appearance, and
+// their distances: distance[a * count + b] = ||p_a - p_b||, the same value both ways. A point
+// counted twice would change no distance, only repeat one.
 struct DistinctPoints {
   std::vector<size_t> index;
   size_t count = 0;
   std::vector<double> distance;
 };
 
+uint64_t hashOf(const Eigen::Vector3d& p) {
+  uint64_t h = 0;
+  for (int k = 0; k < 3; ++k) {
+    uint64_t bits = 0;
+    std::memcpy(&bits, &p[k], sizeof(bits));
+    h = (h ^ bits) * 0x9e3779b97f4a7c15ull;
+    h ^= h >> 29;
+  }
+  return h;
+}
+
 DistinctPoints distinctPoints(const std::vector<Eigen::Vector3d>& points) {
   DistinctPoints d;
-  std::vector<size_t> order(points.size());
-  std::iota(order.begin(), order.end(), size_t{0});
-  const auto less = [&points](size_t a, size_t b) {
-    return std::lexicographical_compare(points[a].data(), points[a].data() + 3, points[b].data(),
-                                        points[b].data() + 3);
-  };
-  std::sort(order.begin(), order.end(), less);
-  std::vector<size_t> first;  // per distinct point, an index of it in `points`
+  size_t slots = 16;
+  while (slots < 2 * points.size()) slots *= 2;
+  constexpr size_t kEmpty = std::numeric_limits<size_t>::max();
+  std::vector<size_t> table(slots, kEmpty);  // per slot, the number of a distinct point
+  std::vector<size_t> first;                 // per distinct point, its first index in `points`
   d.index.resize(points.size());
-  for (size_t k = 0; k < order.size(); ++k) {
-    if (k == 0 || less(order[k - 1], order[k])) first.push_back(order[k]);
-    d.index[order[k]] = first.size() - 1;
+  for (size_t i = 0; i < points.size(); ++i) {
+    size_t slot = hashOf(points[i]) & (slots - 1);
+    while (table[slot] != kEmpty && points[first[table[slot]]] != points[i])
+      slot = (slot + 1) & (slots - 1);
+    if (table[slot] == kEmpty) {
+      table[slot] = first.size();
+      first.push_back(i);
+    }
+    d.index[i] = table[slot];
   }
   d.count = first.size();
   d.distance.assign(d.count * d.count, 0.0);
