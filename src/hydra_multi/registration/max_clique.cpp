@@ -21,10 +21,12 @@ class CliqueSearch {
       : max_steps_(max_steps), n_(adjacency.size()), words_(adjacency.words()), bits_(adjacency) {}
 
   CliqueResult run() {
-    Set all(words_, 0);
-    for (size_t i = 0; i < n_; ++i) all[i / 64] |= uint64_t{1} << (i % 64);
+    // Per depth of the search, its remaining candidates and its child's: (2 n + 3) sets, the
+    // first all vertices.
+    sets_.assign((2 * n_ + 3) * words_, 0);
+    for (size_t i = 0; i < n_; ++i) sets_[i / 64] |= uint64_t{1} << (i % 64);
     std::vector<size_t> current;
-    expand(current, all);
+    expand(current, sets_.data());
     CliqueResult result;
     result.members = best_;
     std::sort(result.members.begin(), result.members.end());
@@ -33,30 +35,28 @@ class CliqueSearch {
   }
 
  private:
-  // A set of vertices as a bit mask (words_ words); its members are visited in increasing order.
-  using Set = std::vector<uint64_t>;
-
+  // A set of vertices is a bit mask of words_ words; its members are visited in increasing order.
   bool adjacent(size_t i, size_t j) const { return (bits_.row(i)[j / 64] >> (j % 64)) & 1u; }
-  static size_t count(const Set& s) {
+  size_t count(const uint64_t* s) const {
     size_t n = 0;
-    for (const uint64_t w : s) n += bitCount(w);
+    for (size_t w = 0; w < words_; ++w) n += bitCount(s[w]);
     return n;
   }
   // The members of `s` adjacent to u.
-  size_t degree(size_t u, const Set& s) const {
+  size_t degree(size_t u, const uint64_t* s) const {
     size_t n = 0;
     for (size_t w = 0; w < words_; ++w) n += bitCount(bits_.row(u)[w] & s[w]);
     return n;
   }
   template <typename Visit>
-  static void forEach(const Set& s, Visit visit) {
-    for (size_t w = 0; w < s.size(); ++w) {
+  void forEach(const uint64_t* s, Visit visit) const {
+    for (size_t w = 0; w < words_; ++w) {
       for (uint64_t bits = s[w]; bits != 0; bits &= bits - 1)
         visit(w * 64 + static_cast<size_t>(__builtin_ctzll(bits)));
     }
   }
 
-  void expand(std::vector<size_t>& clique, const Set& candidates) {
+  void expand(std::vector<size_t>& clique, const uint64_t* candidates) {
     if (++steps_ > max_steps_) return;
     const size_t size = count(candidates);
     if (size == 0) {
@@ -73,9 +73,10 @@ class CliqueSearch {
         pivot_degree = d;
       }
     });
-    Set remaining = candidates;
+    uint64_t* remaining = &sets_[(2 * clique.size() + 1) * words_];
+    uint64_t* next = remaining + words_;
+    std::copy(candidates, candidates + words_, remaining);
     size_t remaining_size = size;
-    Set next(words_);
     for (size_t w = 0; w < words_; ++w) {
       for (uint64_t bits = candidates[w]; bits != 0; bits &= bits - 1) {
         const size_t v = w * 64 + static_cast<size_t>(__builtin_ctzll(bits));
@@ -95,6 +96,7 @@ class CliqueSearch {
   size_t max_steps_, steps_ = 0;
   size_t n_, words_;
   const AdjacencyBits& bits_;
+  std::vector<uint64_t> sets_;
   std::vector<size_t> best_;
 };
 
