@@ -7,7 +7,7 @@ namespace hydra_multi {
 namespace {
 
 // The set bits of w, inline (SWAR): __builtin_popcountll is a library call on a baseline x86-64
-// build, and counting is most of the pivot's choice.
+// build, and the pivot's choice counts bits for every candidate.
 inline size_t bitCount(uint64_t w) {
   w -= (w >> 1) & 0x5555555555555555ull;
   w = (w & 0x3333333333333333ull) + ((w >> 2) & 0x3333333333333333ull);
@@ -104,16 +104,6 @@ class CliqueSearch {
 
 CliqueResult maximumClique(const AdjacencyBits& adjacency, size_t max_steps) {
   return CliqueSearch(adjacency, max_steps).run();
-}
-
-CliqueResult maximumClique(const std::vector<std::vector<size_t>>& adjacency, size_t max_steps) {
-  AdjacencyBits bits(adjacency.size());
-  for (size_t i = 0; i < adjacency.size(); ++i) {
-    for (const size_t j : adjacency[i]) {
-      if (j < adjacency.size()) bits.connect(i, j);
-    }
-  }
-  return maximumClique(bits, max_steps);
 }
 
 }  // namespace hydra_multi

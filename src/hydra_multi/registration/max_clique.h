@@ -37,8 +37,4 @@ class AdjacencyBits {
 
 CliqueResult maximumClique(const AdjacencyBits& adjacency, size_t max_steps = 1000000);
 
-/// `adjacency[i]` lists the neighbours of vertex i (symmetric, no self loops).
-CliqueResult maximumClique(const std::vector<std::vector<size_t>>& adjacency,
-                           size_t max_steps = 1000000);
-
 }  // namespace hydra_multi
