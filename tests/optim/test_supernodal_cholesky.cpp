@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <random>
@@ -107,13 +108,15 @@ class SupernodalCholeskyTest : public ::testing::Test {
     cholmod_l_finish(&common_);
   }
 
-  // The factor's lower parts (the diagonal blocks' upper triangles are not part of it).
-  std::vector<double> lower() const {
+  // The factor's lower parts (the diagonal blocks' upper triangles are not part of it); floats:
+  // a factor in single precision.
+  template <typename T = double>
+  std::vector<T> lower() const {
     const auto* super = static_cast<const SuiteSparse_long*>(L_->super);
     const auto* pi = static_cast<const SuiteSparse_long*>(L_->pi);
     const auto* px = static_cast<const SuiteSparse_long*>(L_->px);
-    const auto* x = static_cast<const double*>(L_->x);
-    std::vector<double> values;
+    const auto* x = static_cast<const T*>(L_->x);
+    std::vector<T> values;
     for (size_t s = 0; s < L_->nsuper; ++s) {
       const long columns = super[s + 1] - super[s], height = pi[s + 1] - pi[s];
       for (long j = 0; j < columns; ++j)
@@ -169,6 +172,71 @@ class SupernodalCholeskyTest : public ::testing::Test {
     cholmod_l_free_dense(&b, &common_);
   }
 
+  // In single precision: the same factor and refined solution to the bit on one thread and `runs`
+  // times on two, the factor within single precision's error of CHOLMOD's, the solve refined once
+  // in double within 1e-12 of CHOLMOD's solution where the floats' own is not within 1e-8.
+  void singlePrecisionIsCholmodsWithinItsError(int runs) {
+    ASSERT_TRUE(cholmod_l_factorize(A_, L_, &common_));
+    ASSERT_EQ(common_.status, CHOLMOD_OK);
+    const std::vector<double> cholmod = lower();
+    cholmod_dense* b = cholmod_l_zeros(A_->nrow, 1, CHOLMOD_REAL, &common_);
+    ASSERT_NE(b, nullptr);
+    std::mt19937 random(11);
+    std::normal_distribution<double> value(0.0, 1.0);
+    auto* rhs = static_cast<double*>(b->x);
+    for (size_t k = 0; k < A_->nrow; ++k) rhs[k] = value(random);
+    cholmod_dense* x = cholmod_l_solve(CHOLMOD_A, L_, b, &common_);
+    ASSERT_NE(x, nullptr);
+    const std::vector<double> exact(static_cast<const double*>(x->x),
+                                    static_cast<const double*>(x->x) + A_->nrow);
+    cholmod_l_free_dense(&x, &common_);
+    const auto relativeError = [&exact](const std::vector<double>& solution) {
+      double error = 0.0, norm = 0.0;
+      for (size_t k = 0; k < exact.size(); ++k) {
+        error += (solution[k] - exact[k]) * (solution[k] - exact[k]);
+        norm += exact[k] * exact[k];
+      }
+      return std::sqrt(error / norm);
+    };
+
+    SupernodalCholesky ours(*L_);
+    ASSERT_TRUE(ours.splits());
+    std::vector<float> first;
+    std::vector<double> first_solution;
+    for (const int threads : {1, 2}) {
+      for (int run = 0; run < (threads == 1 ? 1 : runs); ++run) {
+        std::memset(L_->x, 0, sizeof(double) * L_->xsize);
+        ASSERT_TRUE(ours.factorize(*A_, *L_, threads, true));
+        EXPECT_TRUE(ours.single());
+        EXPECT_EQ(ours.factorized(), L_->nsuper);
+        const std::vector<float> factor = lower<float>();
+        ASSERT_EQ(factor.size(), cholmod.size());
+        if (first.empty()) {
+          first = factor;
+          double error = 0.0, norm = 0.0;
+          for (size_t k = 0; k < factor.size(); ++k) {
+            error += (factor[k] - cholmod[k]) * (factor[k] - cholmod[k]);
+            norm += cholmod[k] * cholmod[k];
+          }
+          EXPECT_LT(std::sqrt(error / norm), 1e-6);
+          EXPECT_GT(std::sqrt(error / norm), 0.0) << "computed in floats";
+        }
+        EXPECT_EQ(std::memcmp(factor.data(), first.data(), sizeof(float) * factor.size()), 0)
+            << threads << " thread(s), run " << run;
+        std::vector<double> unrefined(rhs, rhs + A_->nrow), refined = unrefined;
+        ours.solve(*L_, unrefined.data(), threads);
+        ours.solve(*A_, *L_, refined.data(), threads);
+        EXPECT_GT(relativeError(unrefined), 1e-8);
+        EXPECT_LT(relativeError(refined), 1e-12) << threads << " thread(s), run " << run;
+        if (first_solution.empty()) first_solution = refined;
+        EXPECT_EQ(
+            std::memcmp(refined.data(), first_solution.data(), sizeof(double) * refined.size()), 0)
+            << threads << " thread(s), run " << run;
+      }
+    }
+    cholmod_l_free_dense(&b, &common_);
+  }
+
   cholmod_common common_;
   cholmod_sparse* A_ = nullptr;
   cholmod_factor* L_ = nullptr;
@@ -184,6 +252,10 @@ TEST_F(SupernodalCholeskyTest, TheSolutionIsCholmodsToTheBitOnOneThreadAndOnTwo)
   solutionIsCholmods(10);
 }
 
+TEST_F(SupernodalCholeskyTest, InSinglePrecisionTheSameOnOneThreadAndOnTwoAndRefinedToDouble) {
+  singlePrecisionIsCholmodsWithinItsError(5);
+}
+
 // Two copies of the pattern, not joined: the elimination tree is a forest, its two trees the
 // subtrees of the cut, with no top part.
 class SupernodalCholeskyForestTest : public SupernodalCholeskyTest {
@@ -194,6 +266,7 @@ class SupernodalCholeskyForestTest : public SupernodalCholeskyTest {
 TEST_F(SupernodalCholeskyForestTest, TheFactorAndSolutionAreCholmodsToTheBit) {
   factorIsCholmods(3);
   solutionIsCholmods(3);
+  singlePrecisionIsCholmodsWithinItsError(2);
 }
 
 TEST_F(SupernodalCholeskyTest, AMatrixNotPositiveDefiniteIsNotFactorized) {
@@ -207,7 +280,10 @@ TEST_F(SupernodalCholeskyTest, AMatrixNotPositiveDefiniteIsNotFactorized) {
     const double kept = x[p[column]];  // the first entry of a lower column is its diagonal
     x[p[column]] = -1.0;
     for (const int threads : {1, 2}) {
-      EXPECT_FALSE(ours.factorize(*A_, *L_, threads)) << "column " << column << ", " << threads;
+      for (const bool single : {false, true}) {
+        EXPECT_FALSE(ours.factorize(*A_, *L_, threads, single))
+            << "column " << column << ", " << threads << ", single " << single;
+      }
     }
     x[p[column]] = kept;
     EXPECT_TRUE(ours.factorize(*A_, *L_, 2));

@@ -73,6 +73,7 @@ struct DeformationGraphOptions {
     RobustPgoOptions options;
     options.reduce_chains = false;
     options.solver.linearization_threads = 2;
+    options.solver.single_precision_from_flops = 1e8;
     options.keep_converged_gnc_solve = true;
     return options;
   }();

@@ -190,10 +190,10 @@ SolveSummary PoseGraphProblem::solve() {
     for (const Impl::EdgeBlock& e : m.edges) {
       if (e.active()) weights.push_back(e.weight);
     }
-    const LmSummary summary =
-        m.sparse().solve(m.blocks, weights,
-                         {o.max_iterations, o.function_tolerance, o.gradient_tolerance,
-                          o.parameter_tolerance, o.linearization_threads});
+    const LmSummary summary = m.sparse().solve(
+        m.blocks, weights,
+        {o.max_iterations, o.function_tolerance, o.gradient_tolerance, o.parameter_tolerance,
+         o.linearization_threads, o.single_precision_from_flops});
     result.usable = summary.usable;
     result.message = summary.message;
     result.iterations = summary.iterations;

@@ -36,6 +36,9 @@ struct PoseGraphOptimizerOptions {
   /// Threads that linearize and factorize the sparse Cholesky solves (LmOptions::threads; the
   /// same steps as one thread's, to the bit).
   int linearization_threads = 1;
+  /// Sparse Cholesky: a factorization of at least this many flops in single precision, its
+  /// solve refined once in double (LmOptions::single_precision_from_flops); negative: never.
+  double single_precision_from_flops = -1.0;
   /// Sparse Cholesky is exact and fast while the graph stays sparse; outlier loop closures that
   /// join random poses make its factor dense, where Jacobi-preconditioned conjugate gradients (no
   /// fill-in) are the only affordable step (docs/DECISIONS.md "Conjugate gradients by the

@@ -299,13 +299,14 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
       if (m.permuted[k] != kNone) rhs[m.permuted[k]] = rhs_of[static_cast<Eigen::Index>(k)];
     }
     const auto factorization_start = std::chrono::steady_clock::now();
-    const bool positive = eliminated && m.factorize(options.threads);
+    const bool positive =
+        eliminated && m.factorize(options.threads, options.single_precision_from_flops);
     summary.factorization_s +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - factorization_start)
             .count();
     cholmod_dense* delta = nullptr;
     if (positive && m.supernodal != nullptr) {
-      m.supernodal->solve(*m.L, rhs, options.threads);  // in place
+      m.supernodal->solve(*m.H, *m.L, rhs, options.threads);  // in place
     } else if (positive) {
       delta = cholmod_l_solve(CHOLMOD_A, m.L, b, &m.common);
     }

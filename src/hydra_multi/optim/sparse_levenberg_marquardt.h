@@ -58,6 +58,9 @@ struct LmOptions {
   /// of g and term's cost is summed by one thread in term order, and the factor is the one of one
   /// thread: the steps are those of one thread to the bit.
   int threads = 1;
+  /// A supernodal factorization of at least this many flops is made in single precision and its
+  /// solve refined once in double (supernodal_cholesky.h); negative: always double precision.
+  double single_precision_from_flops = -1.0;
 };
 
 struct LmSummary {

@@ -204,9 +204,10 @@ struct SparseLevenbergMarquardt::Impl {
   // CHOLMOD could not.
   bool allocateValues();
   // L <- the factor of A (H as eliminated and damped): a supernodal L by `supernodal` on
-  // `threads` threads, its values allocated first where it has none; a simplicial L by CHOLMOD.
+  // `threads` threads, its values allocated first where it has none, in single precision where
+  // it takes at least `single_from_flops` (>= 0) and that succeeds; a simplicial L by CHOLMOD.
   // False where A is not positive definite.
-  bool factorize(int threads);
+  bool factorize(int threads, double single_from_flops);
 
   // Where the eliminations split for two threads (elimination_split, Elimination::deferred), from
   // `blocks`, the number of H's blocks. Once, by the analysis.

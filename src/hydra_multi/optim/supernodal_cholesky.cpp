@@ -28,6 +28,20 @@ void dtrsv_(const char* uplo, const char* trans, const char* diag, const int* n,
 void dgemv_(const char* trans, const int* m, const int* n, const double* alpha, const double* a,
             const int* lda, const double* x, const int* incx, const double* beta, double* y,
             const int* incy);
+void ssyrk_(const char* uplo, const char* trans, const int* n, const int* k, const float* alpha,
+            const float* a, const int* lda, const float* beta, float* c, const int* ldc);
+void sgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k,
+            const float* alpha, const float* a, const int* lda, const float* b, const int* ldb,
+            const float* beta, float* c, const int* ldc);
+void spotrf_(const char* uplo, const int* n, float* a, const int* lda, int* info);
+void strsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m,
+            const int* n, const float* alpha, const float* a, const int* lda, float* b,
+            const int* ldb);
+void strsv_(const char* uplo, const char* trans, const char* diag, const int* n, const float* a,
+            const int* lda, float* x, const int* incx);
+void sgemv_(const char* trans, const int* m, const int* n, const float* alpha, const float* a,
+            const int* lda, const float* x, const int* incx, const float* beta, float* y,
+            const int* incy);
 }
 
 namespace hydra_multi {
@@ -39,6 +53,28 @@ constexpr double kTwoThreadsFrom = 2e7;
 constexpr double kSplitShare = 0.9;
 // Subtrees the cut may move into its top part, heaviest first.
 constexpr int kCutSteps = 32;
+
+// The dense calls in double or single precision, by the values' type.
+template <typename T>
+struct Dense;
+template <>
+struct Dense<double> {
+  static constexpr auto syrk = dsyrk_;
+  static constexpr auto gemm = dgemm_;
+  static constexpr auto potrf = dpotrf_;
+  static constexpr auto trsm = dtrsm_;
+  static constexpr auto trsv = dtrsv_;
+  static constexpr auto gemv = dgemv_;
+};
+template <>
+struct Dense<float> {
+  static constexpr auto syrk = ssyrk_;
+  static constexpr auto gemm = sgemm_;
+  static constexpr auto potrf = spotrf_;
+  static constexpr auto trsm = strsm_;
+  static constexpr auto trsv = strsv_;
+  static constexpr auto gemv = sgemv_;
+};
 
 std::mutex& blasBufferMutex() {
   static std::mutex mutex;
@@ -140,19 +176,27 @@ SupernodalCholesky::SupernodalCholesky(const cholmod_factor& symbolic) {
   linked_.assign(supernodes, Linked{});
 }
 
-bool SupernodalCholesky::factorize(const cholmod_sparse& A, cholmod_factor& L, int threads) {
+bool SupernodalCholesky::factorize(const cholmod_sparse& A, cholmod_factor& L, int threads,
+                                   bool single) {
+  single_ = single;
+  return single ? factorizeIn<float>(A, L, threads) : factorizeIn<double>(A, L, threads);
+}
+
+template <typename T>
+bool SupernodalCholesky::factorizeIn(const cholmod_sparse& A, cholmod_factor& L, int threads) {
   const size_t supernodes = L.nsuper;
   for (Workspace& work : work_) {
-    if (!work.map.empty()) continue;
-    work.map.assign(L.n, 0);
-    work.relative.assign(max_rows_, 0);
-    work.update.assign(std::max<size_t>(max_update_, 1), 0.0);
+    if (work.map.empty()) {
+      work.map.assign(L.n, 0);
+      work.relative.assign(max_rows_, 0);
+    }
+    if (work.updates<T>().empty()) work.updates<T>().assign(std::max<size_t>(max_update_, 1), 0);
     if (!two_threads_) break;
   }
   std::vector<Int> head(supernodes, -1);
   factorized_ = 0;
   if (threads < 2 || !two_threads_)
-    return factorPart(A, L, every_.data(), every_.size(), false, head, work_[0]);
+    return factorPart<T>(A, L, every_.data(), every_.size(), false, head, work_[0]);
   // The subtrees, largest first, each to the thread free first; then the top part.
   std::vector<Int> head_1(supernodes, -1);
   std::atomic<size_t> next_task{0};
@@ -162,8 +206,8 @@ bool SupernodalCholesky::factorize(const cholmod_sparse& A, cholmod_factor& L, i
   const auto run = [&](int thread, std::vector<Int>& lists) {
     try {
       for (size_t t = next_task++; t + 1 < task_start_.size() && !stop; t = next_task++) {
-        if (!factorPart(A, L, &task_members_[task_start_[t]], task_start_[t + 1] - task_start_[t],
-                        false, lists, work_[thread])) {
+        if (!factorPart<T>(A, L, &task_members_[task_start_[t]],
+                           task_start_[t + 1] - task_start_[t], false, lists, work_[thread])) {
           done[thread] = false;
           stop = true;
         }
@@ -178,7 +222,7 @@ bool SupernodalCholesky::factorize(const cholmod_sparse& A, cholmod_factor& L, i
     run(0, head);
     second.join();
   } catch (const std::system_error&) {  // no second thread: nothing done yet, all on this one
-    return factorPart(A, L, every_.data(), every_.size(), false, head, work_[0]);
+    return factorPart<T>(A, L, every_.data(), every_.size(), false, head, work_[0]);
   }
   for (const std::exception_ptr& failure : failed) {
     if (failure) std::rethrow_exception(failure);
@@ -195,39 +239,41 @@ bool SupernodalCholesky::factorize(const cholmod_sparse& A, cholmod_factor& L, i
     while (next_[tail] >= 0) tail = next_[tail];
     next_[tail] = head_1[s];
   }
-  return factorPart(A, L, top_.data(), top_.size(), true, head, work_[0]);
+  return factorPart<T>(A, L, top_.data(), top_.size(), true, head, work_[0]);
 }
 
-void SupernodalCholesky::substitute(const cholmod_factor& L, Int s, bool forward, double* x,
-                                    double* gathered) {
+template <typename T>
+void SupernodalCholesky::substitute(const cholmod_factor& L, Int s, bool forward, T* x,
+                                    T* gathered) {
   const auto* super = static_cast<const Int*>(L.super);
   const auto* pi = static_cast<const Int*>(L.pi);
   const auto* rows = static_cast<const Int*>(L.s) + pi[s];
-  const double* Ls = static_cast<const double*>(L.x) + static_cast<const Int*>(L.px)[s];
+  const T* Ls = static_cast<const T*>(L.x) + static_cast<const Int*>(L.px)[s];
   const int columns = static_cast<int>(super[s + 1] - super[s]);
   const int height = static_cast<int>(pi[s + 1] - pi[s]), below = height - columns;
   const int one = 1;
-  const double minus_one = -1.0, plus_one = 1.0;
+  const T minus_one = -1, plus_one = 1;
   for (int i = 0; i < below; ++i) gathered[i] = x[rows[columns + i]];
-  double* x1 = x + super[s];
+  T* x1 = x + super[s];
   if (forward) {
     // x1 <- L1^-1 x1, then E <- E - L2 x1, scattered back
-    dtrsv_("L", "N", "N", &columns, Ls, &height, x1, &one);
-    dgemv_("N", &below, &columns, &minus_one, Ls + columns, &height, x1, &one, &plus_one, gathered,
-           &one);
+    Dense<T>::trsv("L", "N", "N", &columns, Ls, &height, x1, &one);
+    Dense<T>::gemv("N", &below, &columns, &minus_one, Ls + columns, &height, x1, &one, &plus_one,
+                   gathered, &one);
     for (int i = 0; i < below; ++i) x[rows[columns + i]] = gathered[i];
   } else {
     // x1 <- x1 - L2^T E, then x1 <- L1^-T x1
-    dgemv_("C", &below, &columns, &minus_one, Ls + columns, &height, gathered, &one, &plus_one, x1,
-           &one);
-    dtrsv_("L", "C", "N", &columns, Ls, &height, x1, &one);
+    Dense<T>::gemv("C", &below, &columns, &minus_one, Ls + columns, &height, gathered, &one,
+                   &plus_one, x1, &one);
+    Dense<T>::trsv("L", "C", "N", &columns, Ls, &height, x1, &one);
   }
 }
 
-void SupernodalCholesky::solve(const cholmod_factor& L, double* x, int threads) {
+template <typename T>
+void SupernodalCholesky::solveIn(const cholmod_factor& L, T* x, int threads) {
   const Int supernodes = static_cast<Int>(L.nsuper);
-  for (Workspace& work : work_) work.gathered.resize(max_rows_);
-  double* gathered = work_[0].gathered.data();
+  for (Workspace& work : work_) work.gatheredRows<T>().resize(max_rows_);
+  T* gathered = work_[0].gatheredRows<T>().data();
   for (Int s = 0; s < supernodes; ++s) substitute(L, s, true, x, gathered);
   if (threads < 2 || !two_threads_) {
     for (Int s = supernodes; s-- > 0;) substitute(L, s, false, x, gathered);
@@ -237,7 +283,7 @@ void SupernodalCholesky::solve(const cholmod_factor& L, double* x, int threads) 
   for (size_t k = top_.size(); k-- > 0;) substitute(L, top_[k], false, x, gathered);
   std::atomic<size_t> next_task{0};
   const auto run = [&](int thread) {
-    double* buffer = work_[thread].gathered.data();
+    T* buffer = work_[thread].gatheredRows<T>().data();
     for (size_t t = next_task++; t + 1 < task_start_.size(); t = next_task++) {
       for (size_t k = task_start_[t + 1]; k-- > task_start_[t];)
         substitute(L, task_members_[k], false, x, buffer);
@@ -252,6 +298,41 @@ void SupernodalCholesky::solve(const cholmod_factor& L, double* x, int threads) 
   }
 }
 
+void SupernodalCholesky::solve(const cholmod_factor& L, double* x, int threads) {
+  if (!single_) return solveIn(L, x, threads);
+  single_x_.assign(x, x + L.n);
+  solveIn(L, single_x_.data(), threads);
+  std::copy(single_x_.begin(), single_x_.end(), x);
+}
+
+void SupernodalCholesky::solve(const cholmod_sparse& A, const cholmod_factor& L, double* x,
+                               int threads) {
+  if (!single_) return solveIn(L, x, threads);
+  const size_t n = L.n;
+  refined_.assign(x, x + n);  // b
+  solve(L, x, threads);
+  // r = b - A x, A symmetric by its lower triangle; x += L^-T L^-1 r.
+  const auto* Ap = static_cast<const Int*>(A.p);
+  const auto* Anz = static_cast<const Int*>(A.nz);
+  const auto* Ai = static_cast<const Int*>(A.i);
+  const auto* Ax = static_cast<const double*>(A.x);
+  for (Int j = 0; j < static_cast<Int>(A.ncol); ++j) {
+    const Int end = A.packed ? Ap[j + 1] : Ap[j] + Anz[j];
+    double along_j = 0.0;
+    for (Int q = Ap[j]; q < end; ++q) {
+      const Int i = Ai[q];
+      if (i < j) continue;
+      along_j += Ax[q] * x[i];
+      if (i != j) refined_[i] -= Ax[q] * x[j];
+    }
+    refined_[j] -= along_j;
+  }
+  single_x_.assign(refined_.begin(), refined_.end());
+  solveIn(L, single_x_.data(), threads);
+  for (size_t k = 0; k < n; ++k) x[k] += single_x_[k];
+}
+
+template <typename T>
 bool SupernodalCholesky::factorPart(const cholmod_sparse& A, cholmod_factor& L, const Int* only,
                                     size_t count, bool order_lists, std::vector<Int>& head,
                                     Workspace& work) {
@@ -259,12 +340,12 @@ bool SupernodalCholesky::factorPart(const cholmod_sparse& A, cholmod_factor& L, 
   const auto* pi = static_cast<const Int*>(L.pi);
   const auto* px = static_cast<const Int*>(L.px);
   const auto* rows = static_cast<const Int*>(L.s);
-  auto* Lx = static_cast<double*>(L.x);
+  auto* Lx = static_cast<T*>(L.x);
   const auto* Ap = static_cast<const Int*>(A.p);
   const auto* Anz = static_cast<const Int*>(A.nz);
   const auto* Ai = static_cast<const Int*>(A.i);
   const auto* Ax = static_cast<const double*>(A.x);
-  const double one = 1.0, zero = 0.0;
+  const T one = 1, zero = 0;
   std::vector<Int> descendants;
   for (size_t at = 0; at < count; ++at) {
     const Int s = only[at];
@@ -272,13 +353,13 @@ bool SupernodalCholesky::factorPart(const cholmod_sparse& A, cholmod_factor& L, 
     const Int k1 = super[s], k2 = super[s + 1], columns = k2 - k1;
     const Int first_row = pi[s], height = pi[s + 1] - first_row;
     for (Int k = 0; k < height; ++k) work.map[rows[first_row + k]] = k;
-    double* Ls = Lx + px[s];
-    std::memset(Ls, 0, sizeof(double) * static_cast<size_t>(height * columns));
+    T* Ls = Lx + px[s];
+    std::memset(Ls, 0, sizeof(T) * static_cast<size_t>(height * columns));
     for (Int j = k1; j < k2; ++j) {
-      double* column = Ls + (j - k1) * height;
+      T* column = Ls + (j - k1) * height;
       const Int end = A.packed ? Ap[j + 1] : Ap[j] + Anz[j];
       for (Int q = Ap[j]; q < end; ++q) {
-        if (Ai[q] >= j) column[work.map[Ai[q]]] = Ax[q];
+        if (Ai[q] >= j) column[work.map[Ai[q]]] = static_cast<T>(Ax[q]);
       }
     }
     descendants.clear();
@@ -307,17 +388,17 @@ bool SupernodalCholesky::factorPart(const cholmod_sparse& A, cholmod_factor& L, 
       const int after_s = below - in_s;
       const int d_columns = static_cast<int>(super[d + 1] - super[d]);
       const int ld = static_cast<int>(d_height);
-      const double* Ld = Lx + px[d] + lpos_[d];
-      double* C = work.update.data();
-      dsyrk_("L", "N", &in_s, &d_columns, &one, Ld, &ld, &zero, C, &below);
+      const T* Ld = Lx + px[d] + lpos_[d];
+      T* C = work.updates<T>().data();
+      Dense<T>::syrk("L", "N", &in_s, &d_columns, &one, Ld, &ld, &zero, C, &below);
       if (after_s > 0) {
-        dgemm_("N", "C", &after_s, &in_s, &d_columns, &one, Ld + in_s, &ld, Ld, &ld, &zero,
-               C + in_s, &below);
+        Dense<T>::gemm("N", "C", &after_s, &in_s, &d_columns, &one, Ld + in_s, &ld, Ld, &ld, &zero,
+                       C + in_s, &below);
       }
       for (int i = 0; i < below; ++i) work.relative[i] = work.map[rows[p1 + i]];
       for (int j = 0; j < in_s; ++j) {
-        double* column = Ls + work.relative[j] * height;
-        const double* c = C + static_cast<ptrdiff_t>(j) * below;
+        T* column = Ls + work.relative[j] * height;
+        const T* c = C + static_cast<ptrdiff_t>(j) * below;
         for (int i = j; i < below; ++i) column[work.relative[i]] -= c[i];
       }
       lpos_[d] = p2 - d_first;
@@ -325,11 +406,11 @@ bool SupernodalCholesky::factorPart(const cholmod_sparse& A, cholmod_factor& L, 
     }
     const int n = static_cast<int>(columns), ld = static_cast<int>(height);
     int info = 0;
-    dpotrf_("L", &n, Ls, &ld, &info);
+    Dense<T>::potrf("L", &n, Ls, &ld, &info);
     if (info != 0) return false;
     if (height > columns) {
       const int m = static_cast<int>(height - columns);
-      dtrsm_("R", "L", "C", "N", &m, &n, &one, Ls, &ld, Ls + columns, &ld);
+      Dense<T>::trsm("R", "L", "C", "N", &m, &n, &one, Ls, &ld, Ls + columns, &ld);
       lpos_[s] = columns;
       link(s, first_row + columns);
     }

@@ -9,6 +9,9 @@
 // subtree taken, largest first, by the thread free first. The threads take the subtrees so, then
 // one does the top part. Every supernode takes its descendants in the order one thread takes
 // them, so the factor is the same to the bit on one thread or two, and the same as CHOLMOD's.
+// In single precision the same steps run on floats (ssyrk, sgemm, spotrf, strsm), L.x then holding
+// the factor as floats in its first half; a solve refines its floats' solution once in double:
+// x0 = (L L^T)^-1 b, x = x0 + (L L^T)^-1 (b - A x0).
 // Debian's serial OpenBLAS does not lock its pool of work buffers for callers on several
 // threads; while a factorization runs on two, each buffer is taken under a lock (its
 // blas_memory_alloc, interposed), so two dense calls never share one.
@@ -17,6 +20,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 namespace hydra_multi {
@@ -30,14 +34,20 @@ class SupernodalCholesky {
   /// L <- the factor of A, on `threads` threads (two at most; one where the cut gains little).
   /// L: the factor the plan was made for, its numeric values allocated (real, supernodal LL').
   /// False where A is not positive definite (a pivot not above zero); L is then unusable.
-  bool factorize(const cholmod_sparse& A, cholmod_factor& L, int threads);
+  /// `single`: the factor in single precision, its values floats in the first half of L.x.
+  bool factorize(const cholmod_sparse& A, cholmod_factor& L, int threads, bool single = false);
 
   /// x <- A^-1 x by the factor L of A that factorize() made: L's forward then backward
   /// substitution, supernode by supernode with the dense calls of CHOLMOD's (cholmod_l_solve on
   /// an LL' supernodal factor), so the same solution to the bit. The backward substitution, on
   /// two threads where the factorization splits: the top part first, then the subtrees.
-  /// x: in L's order, L.n values.
+  /// x: in L's order, L.n values. A factor in single precision solves in floats.
   void solve(const cholmod_factor& L, double* x, int threads);
+  /// The same; a factor in single precision then refines its solution once by A, the matrix it
+  /// factorized (its lower triangle): x += (L L^T)^-1 (b - A x), the residual in double.
+  void solve(const cholmod_sparse& A, const cholmod_factor& L, double* x, int threads);
+  /// Whether the last factorize() was in single precision.
+  bool single() const { return single_; }
 
   /// Whether two threads are used: at least 2e7 flops, and by the flop count two threads taking
   /// the cut's subtrees, then the top part, end within 90 % of one thread's time.
@@ -51,6 +61,23 @@ class SupernodalCholesky {
   struct Workspace {
     std::vector<Int> map, relative;
     std::vector<double> update, gathered;
+    std::vector<float> update_single, gathered_single;
+    template <typename T>
+    std::vector<T>& updates() {
+      if constexpr (std::is_same_v<T, float>) {
+        return update_single;
+      } else {
+        return update;
+      }
+    }
+    template <typename T>
+    std::vector<T>& gatheredRows() {
+      if constexpr (std::is_same_v<T, float>) {
+        return gathered_single;
+      } else {
+        return gathered;
+      }
+    }
   };
   // When a descendant was put on its next supernode's list: while supernode `at` was done, as
   // the `nth` put then. One thread's lists hold their descendants in descending order of it.
@@ -60,9 +87,15 @@ class SupernodalCholesky {
   };
   // The forward substitution through supernode s, or the backward one; `gathered`: a buffer of
   // the supernode's rows below its columns.
-  static void substitute(const cholmod_factor& L, Int s, bool forward, double* x, double* gathered);
+  template <typename T>
+  static void substitute(const cholmod_factor& L, Int s, bool forward, T* x, T* gathered);
+  template <typename T>
+  void solveIn(const cholmod_factor& L, T* x, int threads);
+  template <typename T>
+  bool factorizeIn(const cholmod_sparse& A, cholmod_factor& L, int threads);
   // Factorizes the `count` supernodes at `only` in order (every_: all of them), with the
   // descendants' lists `head`; `order_lists`: each list sorted as one thread would have made it.
+  template <typename T>
   bool factorPart(const cholmod_sparse& A, cholmod_factor& L, const Int* only, size_t count,
                   bool order_lists, std::vector<Int>& head, Workspace& work);
 
@@ -78,6 +111,9 @@ class SupernodalCholesky {
   std::vector<Int> next_, lpos_;
   std::vector<Linked> linked_;
   Workspace work_[2];
+  bool single_ = false;
+  std::vector<float> single_x_;  // a solve's right-hand side in floats
+  std::vector<double> refined_;  // b, then the residual b - A x
 };
 
 }  // namespace hydra_multi

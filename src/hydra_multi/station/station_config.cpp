@@ -167,6 +167,12 @@ const std::map<std::string, std::map<std::string, Setter>>& setters() {
          count([](StationOptions& o,
                   int n) { o.backend.deformation.solver.solver.linearization_threads = n; },
                1)},
+        {"single_precision_from_flops",
+         number(
+             [](StationOptions& o, double x) {
+               o.backend.deformation.solver.solver.single_precision_from_flops = x;
+             },
+             -1.0, false)},
         {"chain_min_share",
          number(
              [](StationOptions& o, double x) { o.backend.deformation.solver.chain_min_share = x; },
