@@ -366,11 +366,11 @@ bool SparseLevenbergMarquardt::Impl::allocateValues() {
 bool SparseLevenbergMarquardt::Impl::factorize(int threads, double single_from_flops) {
   if (supernodal == nullptr)
     return cholmod_l_factorize(H, L, &common) && common.status == CHOLMOD_OK;
-  if (!allocateValues()) return false;
-  // In single precision where large enough; where that fails, in double.
+  // In single precision where large enough (L then needs no values of its own); where that
+  // fails, in double.
   const bool single = single_from_flops >= 0.0 && supernodal->flops() >= single_from_flops;
   if (!(single && supernodal->factorize(*H, *L, threads, true)) &&
-      !supernodal->factorize(*H, *L, threads))
+      !(allocateValues() && supernodal->factorize(*H, *L, threads)))
     return false;
   L->minor = L->n;
   return true;

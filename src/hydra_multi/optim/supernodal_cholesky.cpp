@@ -8,6 +8,7 @@
 #include <exception>
 #include <functional>
 #include <mutex>
+#include <new>
 #include <numeric>
 #include <system_error>
 #include <thread>
@@ -179,7 +180,24 @@ SupernodalCholesky::SupernodalCholesky(const cholmod_factor& symbolic) {
 bool SupernodalCholesky::factorize(const cholmod_sparse& A, cholmod_factor& L, int threads,
                                    bool single) {
   single_ = single;
+  if (single && single_size_ < L.xsize) {
+    SuiteSparse_free(single_values_);
+    single_values_ = static_cast<float*>(SuiteSparse_malloc(L.xsize, sizeof(float)));
+    single_size_ = single_values_ != nullptr ? L.xsize : 0;
+    if (single_values_ == nullptr) throw std::bad_alloc();
+  }
   return single ? factorizeIn<float>(A, L, threads) : factorizeIn<double>(A, L, threads);
+}
+
+SupernodalCholesky::~SupernodalCholesky() { SuiteSparse_free(single_values_); }
+
+template <typename T>
+T* SupernodalCholesky::valuesOf(const cholmod_factor& L) const {
+  if constexpr (std::is_same_v<T, float>) {
+    return single_values_;
+  } else {
+    return static_cast<double*>(L.x);
+  }
 }
 
 template <typename T>
@@ -243,12 +261,12 @@ bool SupernodalCholesky::factorizeIn(const cholmod_sparse& A, cholmod_factor& L,
 }
 
 template <typename T>
-void SupernodalCholesky::substitute(const cholmod_factor& L, Int s, bool forward, T* x,
-                                    T* gathered) {
+void SupernodalCholesky::substitute(const cholmod_factor& L, const T* values, Int s, bool forward,
+                                    T* x, T* gathered) {
   const auto* super = static_cast<const Int*>(L.super);
   const auto* pi = static_cast<const Int*>(L.pi);
   const auto* rows = static_cast<const Int*>(L.s) + pi[s];
-  const T* Ls = static_cast<const T*>(L.x) + static_cast<const Int*>(L.px)[s];
+  const T* Ls = values + static_cast<const Int*>(L.px)[s];
   const int columns = static_cast<int>(super[s + 1] - super[s]);
   const int height = static_cast<int>(pi[s + 1] - pi[s]), below = height - columns;
   const int one = 1;
@@ -272,21 +290,22 @@ void SupernodalCholesky::substitute(const cholmod_factor& L, Int s, bool forward
 template <typename T>
 void SupernodalCholesky::solveIn(const cholmod_factor& L, T* x, int threads) {
   const Int supernodes = static_cast<Int>(L.nsuper);
+  const T* values = valuesOf<T>(L);
   for (Workspace& work : work_) work.gatheredRows<T>().resize(max_rows_);
   T* gathered = work_[0].gatheredRows<T>().data();
-  for (Int s = 0; s < supernodes; ++s) substitute(L, s, true, x, gathered);
+  for (Int s = 0; s < supernodes; ++s) substitute(L, values, s, true, x, gathered);
   if (threads < 2 || !two_threads_) {
-    for (Int s = supernodes; s-- > 0;) substitute(L, s, false, x, gathered);
+    for (Int s = supernodes; s-- > 0;) substitute(L, values, s, false, x, gathered);
     return;
   }
   // The top part, whose rows are its own; then each subtree, whose rows are its own or the top's.
-  for (size_t k = top_.size(); k-- > 0;) substitute(L, top_[k], false, x, gathered);
+  for (size_t k = top_.size(); k-- > 0;) substitute(L, values, top_[k], false, x, gathered);
   std::atomic<size_t> next_task{0};
   const auto run = [&](int thread) {
     T* buffer = work_[thread].gatheredRows<T>().data();
     for (size_t t = next_task++; t + 1 < task_start_.size(); t = next_task++) {
       for (size_t k = task_start_[t + 1]; k-- > task_start_[t];)
-        substitute(L, task_members_[k], false, x, buffer);
+        substitute(L, values, task_members_[k], false, x, buffer);
     }
   };
   try {
@@ -340,7 +359,7 @@ bool SupernodalCholesky::factorPart(const cholmod_sparse& A, cholmod_factor& L, 
   const auto* pi = static_cast<const Int*>(L.pi);
   const auto* px = static_cast<const Int*>(L.px);
   const auto* rows = static_cast<const Int*>(L.s);
-  auto* Lx = static_cast<T*>(L.x);
+  T* Lx = valuesOf<T>(L);
   const auto* Ap = static_cast<const Int*>(A.p);
   const auto* Anz = static_cast<const Int*>(A.nz);
   const auto* Ai = static_cast<const Int*>(A.i);
@@ -405,11 +424,11 @@ bool SupernodalCholesky::factorPart(const cholmod_sparse& A, cholmod_factor& L, 
       if (lpos_[d] < d_height) link(d, p2);
     }
     const int n = static_cast<int>(columns), ld = static_cast<int>(height);
+    const int m = static_cast<int>(height - columns);
     int info = 0;
     Dense<T>::potrf("L", &n, Ls, &ld, &info);
     if (info != 0) return false;
-    if (height > columns) {
-      const int m = static_cast<int>(height - columns);
+    if (m > 0) {
       Dense<T>::trsm("R", "L", "C", "N", &m, &n, &one, Ls, &ld, Ls + columns, &ld);
       lpos_[s] = columns;
       link(s, first_row + columns);

@@ -9,9 +9,9 @@
 // subtree taken, largest first, by the thread free first. The threads take the subtrees so, then
 // one does the top part. Every supernode takes its descendants in the order one thread takes
 // them, so the factor is the same to the bit on one thread or two, and the same as CHOLMOD's.
-// In single precision the same steps run on floats (ssyrk, sgemm, spotrf, strsm), L.x then holding
-// the factor as floats in its first half; a solve refines its floats' solution once in double:
-// x0 = (L L^T)^-1 b, x = x0 + (L L^T)^-1 (b - A x0).
+// In single precision the same steps run on floats (ssyrk, sgemm, spotrf, strsm), the factor's
+// values then this object's own floats (L needs none); a solve refines the floats' solution once
+// in double: x0 = (L L^T)^-1 b, x = x0 + (L L^T)^-1 (b - A x0).
 // Debian's serial OpenBLAS does not lock its pool of work buffers for callers on several
 // threads; while a factorization runs on two, each buffer is taken under a lock (its
 // blas_memory_alloc, interposed), so two dense calls never share one.
@@ -30,11 +30,15 @@ class SupernodalCholesky {
   /// The plan for `symbolic` (supernodal, in its natural order): its tree, a flop count per
   /// supernode and the cut for two threads.
   explicit SupernodalCholesky(const cholmod_factor& symbolic);
+  ~SupernodalCholesky();
+  SupernodalCholesky(const SupernodalCholesky&) = delete;
+  SupernodalCholesky& operator=(const SupernodalCholesky&) = delete;
 
   /// L <- the factor of A, on `threads` threads (two at most; one where the cut gains little).
-  /// L: the factor the plan was made for, its numeric values allocated (real, supernodal LL').
+  /// L: the factor the plan was made for, its numeric values allocated (real, supernodal LL'),
+  /// except with `single`: the factor in single precision, in floats of this object's own
+  /// (singleValues(); allocated through SuiteSparse's allocator, in L's layout).
   /// False where A is not positive definite (a pivot not above zero); L is then unusable.
-  /// `single`: the factor in single precision, its values floats in the first half of L.x.
   bool factorize(const cholmod_sparse& A, cholmod_factor& L, int threads, bool single = false);
 
   /// x <- A^-1 x by the factor L of A that factorize() made: L's forward then backward
@@ -46,8 +50,9 @@ class SupernodalCholesky {
   /// The same; a factor in single precision then refines its solution once by A, the matrix it
   /// factorized (its lower triangle): x += (L L^T)^-1 (b - A x), the residual in double.
   void solve(const cholmod_sparse& A, const cholmod_factor& L, double* x, int threads);
-  /// Whether the last factorize() was in single precision.
+  /// Whether the last factorize() was in single precision, and its floats (L's layout, L.xsize).
   bool single() const { return single_; }
+  const float* singleValues() const { return single_values_; }
 
   /// Whether two threads are used: at least 2e7 flops, and by the flop count two threads taking
   /// the cut's subtrees, then the top part, end within 90 % of one thread's time.
@@ -62,6 +67,8 @@ class SupernodalCholesky {
     std::vector<Int> map, relative;
     std::vector<double> update, gathered;
     std::vector<float> update_single, gathered_single;
+    std::vector<double> panel;               // a diagonal block in double (single precision)
+    std::vector<float> inverse, rows_below;  // its inverse, and L21 as sgemm writes it
     template <typename T>
     std::vector<T>& updates() {
       if constexpr (std::is_same_v<T, float>) {
@@ -88,7 +95,10 @@ class SupernodalCholesky {
   // The forward substitution through supernode s, or the backward one; `gathered`: a buffer of
   // the supernode's rows below its columns.
   template <typename T>
-  static void substitute(const cholmod_factor& L, Int s, bool forward, T* x, T* gathered);
+  static void substitute(const cholmod_factor& L, const T* values, Int s, bool forward, T* x,
+                         T* gathered);
+  template <typename T>
+  T* valuesOf(const cholmod_factor& L) const;  // L.x, or the floats
   template <typename T>
   void solveIn(const cholmod_factor& L, T* x, int threads);
   template <typename T>
@@ -112,6 +122,8 @@ class SupernodalCholesky {
   std::vector<Linked> linked_;
   Workspace work_[2];
   bool single_ = false;
+  float* single_values_ = nullptr;  // SuiteSparse_malloc'ed, single_size_ floats
+  size_t single_size_ = 0;
   std::vector<float> single_x_;  // a solve's right-hand side in floats
   std::vector<double> refined_;  // b, then the residual b - A x
 };
