@@ -295,15 +295,17 @@ TEST(PoseGraphOptimizer, ReachesCertifiedOptimumOnParkingGarage) {
   EXPECT_LE(f, f_star * 1.001);
 }
 
-// sphere2500 (../shared/data/pgo) with its edges classified; empty if it cannot be read.
-PoseGraph sphere2500() {
-  auto g2o = io::readG2o(testing::dataDir() + "/pgo/sphere2500.g2o");
+// A benchmark of ../shared/data/pgo with its edges classified; empty if it cannot be read.
+PoseGraph classifiedBenchmark(const std::string& file) {
+  auto g2o = io::readG2o(testing::dataDir() + "/pgo/" + file);
   EXPECT_TRUE(g2o.ok()) << g2o.error();
   if (!g2o.ok()) return {};
   PoseGraph g = g2o.value().graph;
   classifyEdges(g);
   return g;
 }
+
+PoseGraph sphere2500() { return classifiedBenchmark("sphere2500.g2o"); }
 
 // The fill GNC's choice of linear solver reads (RobustPgoOptions::cholesky_mflops_per_pose_limit,
 // 2): sphere2500 as it is stays sparse, with half of its loop closures random outliers it fills in.
@@ -467,10 +469,8 @@ PoseGraph chainedGrid(std::mt19937& rng, int side, int chains, int length, doubl
 TEST(PoseGraphOptimizer, SolverThreadsTakeTheStepsOfOneThreadToTheBit) {
   for (const std::string file : {"sphere2500.g2o", "parking-garage.g2o"}) {
     SCOPED_TRACE(file);
-    auto g2o = io::readG2o(testing::dataDir() + "/pgo/" + file);
-    ASSERT_TRUE(g2o.ok()) << g2o.error();
-    PoseGraph g = g2o.value().graph;
-    classifyEdges(g);
+    const PoseGraph g = classifiedBenchmark(file);
+    ASSERT_FALSE(g.edges.empty());
     threadsTakeTheStepsOfOne(g);
   }
   SCOPED_TRACE("chained grid");
@@ -489,10 +489,8 @@ TEST(PoseGraphOptimizer, SolverThreadsTakeTheStepsOfOneThreadToTheBit) {
 TEST(PoseGraphOptimizer, FactorsInSinglePrecisionRefinedTakeTheStepsOfDoublePrecision) {
   for (const std::string file : {"sphere2500.g2o", "parking-garage.g2o"}) {
     SCOPED_TRACE(file);
-    auto g2o = io::readG2o(testing::dataDir() + "/pgo/" + file);
-    ASSERT_TRUE(g2o.ok()) << g2o.error();
-    PoseGraph g = g2o.value().graph;
-    classifyEdges(g);
+    const PoseGraph g = classifiedBenchmark(file);
+    ASSERT_FALSE(g.edges.empty());
     const NodeId anchor = g.poses.begin()->first;
     const auto start = chordalInitialization(g, anchor);
     ASSERT_TRUE(start.ok()) << start.error();

@@ -17,6 +17,17 @@
 namespace hydra_multi {
 namespace {
 
+// ||a - b|| / ||b||.
+template <typename T>
+double relativeError(const std::vector<T>& a, const std::vector<double>& b) {
+  double error = 0.0, norm = 0.0;
+  for (size_t k = 0; k < b.size(); ++k) {
+    error += (a[k] - b[k]) * (a[k] - b[k]);
+    norm += b[k] * b[k];
+  }
+  return std::sqrt(error / norm);
+}
+
 // A symmetric positive definite matrix of 6x6 blocks on the pattern of a real pose graph
 // (sphere2500: 2,500 poses; copies() of it, not joined), each edge adding w [I -I; -I I] (w
 // random), each pose w I; stored as its lower triangle in a fill-reducing order
@@ -125,6 +136,28 @@ class SupernodalCholeskyTest : public ::testing::Test {
     return values;
   }
 
+  // A right-hand side of normal values (seed 11), and CHOLMOD's solution of A x = b with L_ as
+  // factorized.
+  std::vector<double> rightHandSide() const {
+    std::mt19937 random(11);
+    std::normal_distribution<double> value(0.0, 1.0);
+    std::vector<double> b(A_->nrow);
+    for (double& v : b) v = value(random);
+    return b;
+  }
+  std::vector<double> cholmodSolution(const std::vector<double>& rhs) {
+    cholmod_dense* b = cholmod_l_zeros(A_->nrow, 1, CHOLMOD_REAL, &common_);
+    EXPECT_NE(b, nullptr);
+    std::copy(rhs.begin(), rhs.end(), static_cast<double*>(b->x));
+    cholmod_dense* x = cholmod_l_solve(CHOLMOD_A, L_, b, &common_);
+    EXPECT_NE(x, nullptr);
+    std::vector<double> solution(static_cast<const double*>(x->x),
+                                 static_cast<const double*>(x->x) + A_->nrow);
+    cholmod_l_free_dense(&x, &common_);
+    cholmod_l_free_dense(&b, &common_);
+    return solution;
+  }
+
   // Our factor is CHOLMOD's to the bit on one thread and `runs` times on two.
   void factorIsCholmods(int runs) {
     ASSERT_TRUE(cholmod_l_factorize(A_, L_, &common_));
@@ -151,25 +184,16 @@ class SupernodalCholeskyTest : public ::testing::Test {
     ASSERT_TRUE(cholmod_l_factorize(A_, L_, &common_));  // L's values allocated
     ASSERT_TRUE(ours.factorize(*A_, *L_, 2));
     ASSERT_TRUE(ours.splits());
-    cholmod_dense* b = cholmod_l_zeros(A_->nrow, 1, CHOLMOD_REAL, &common_);
-    ASSERT_NE(b, nullptr);
-    std::mt19937 random(11);
-    std::normal_distribution<double> value(0.0, 1.0);
-    auto* rhs = static_cast<double*>(b->x);
-    for (size_t k = 0; k < A_->nrow; ++k) rhs[k] = value(random);
-    cholmod_dense* x = cholmod_l_solve(CHOLMOD_A, L_, b, &common_);
-    ASSERT_NE(x, nullptr);
-    const auto* cholmod = static_cast<const double*>(x->x);
+    const std::vector<double> rhs = rightHandSide();
+    const std::vector<double> cholmod = cholmodSolution(rhs);
     for (const int threads : {1, 2}) {
       for (int run = 0; run < (threads == 1 ? 1 : runs); ++run) {
-        std::vector<double> solution(rhs, rhs + A_->nrow);
+        std::vector<double> solution = rhs;
         ours.solve(*L_, solution.data(), threads);
-        EXPECT_EQ(std::memcmp(solution.data(), cholmod, sizeof(double) * solution.size()), 0)
+        EXPECT_EQ(std::memcmp(solution.data(), cholmod.data(), sizeof(double) * solution.size()), 0)
             << threads << " thread(s), run " << run;
       }
     }
-    cholmod_l_free_dense(&x, &common_);
-    cholmod_l_free_dense(&b, &common_);
   }
 
   // In single precision: the same factor and refined solution to the bit on one thread and `runs`
@@ -179,26 +203,8 @@ class SupernodalCholeskyTest : public ::testing::Test {
     ASSERT_TRUE(cholmod_l_factorize(A_, L_, &common_));
     ASSERT_EQ(common_.status, CHOLMOD_OK);
     const std::vector<double> cholmod = lower();
-    cholmod_dense* b = cholmod_l_zeros(A_->nrow, 1, CHOLMOD_REAL, &common_);
-    ASSERT_NE(b, nullptr);
-    std::mt19937 random(11);
-    std::normal_distribution<double> value(0.0, 1.0);
-    auto* rhs = static_cast<double*>(b->x);
-    for (size_t k = 0; k < A_->nrow; ++k) rhs[k] = value(random);
-    cholmod_dense* x = cholmod_l_solve(CHOLMOD_A, L_, b, &common_);
-    ASSERT_NE(x, nullptr);
-    const std::vector<double> exact(static_cast<const double*>(x->x),
-                                    static_cast<const double*>(x->x) + A_->nrow);
-    cholmod_l_free_dense(&x, &common_);
-    const auto relativeError = [&exact](const std::vector<double>& solution) {
-      double error = 0.0, norm = 0.0;
-      for (size_t k = 0; k < exact.size(); ++k) {
-        error += (solution[k] - exact[k]) * (solution[k] - exact[k]);
-        norm += exact[k] * exact[k];
-      }
-      return std::sqrt(error / norm);
-    };
-
+    const std::vector<double> rhs = rightHandSide();
+    const std::vector<double> exact = cholmodSolution(rhs);
     SupernodalCholesky ours(*L_);
     ASSERT_TRUE(ours.splits());
     std::vector<float> first;
@@ -212,28 +218,24 @@ class SupernodalCholeskyTest : public ::testing::Test {
         ASSERT_EQ(factor.size(), cholmod.size());
         if (first.empty()) {
           first = factor;
-          double error = 0.0, norm = 0.0;
-          for (size_t k = 0; k < factor.size(); ++k) {
-            error += (factor[k] - cholmod[k]) * (factor[k] - cholmod[k]);
-            norm += cholmod[k] * cholmod[k];
-          }
-          EXPECT_LT(std::sqrt(error / norm), 1e-6);
-          EXPECT_GT(std::sqrt(error / norm), 0.0) << "computed in floats";
+          EXPECT_LT(relativeError(factor, cholmod), 1e-6);
+          EXPECT_GT(relativeError(factor, cholmod), 0.0) << "computed in floats";
         }
         EXPECT_EQ(std::memcmp(factor.data(), first.data(), sizeof(float) * factor.size()), 0)
             << threads << " thread(s), run " << run;
-        std::vector<double> unrefined(rhs, rhs + A_->nrow), refined = unrefined;
+        std::vector<double> unrefined = rhs, refined = rhs;
         ours.solve(*L_, unrefined.data(), threads);
         ours.solve(*A_, *L_, refined.data(), threads);
-        EXPECT_GT(relativeError(unrefined), 1e-8);
-        EXPECT_LT(relativeError(refined), 1e-12) << threads << " thread(s), run " << run;
+        EXPECT_GT(relativeError(unrefined, exact), 1e-8);
+        EXPECT_LT(relativeError(refined, exact), 1e-12) << threads << " thread(s), run " << run;
         if (first_solution.empty()) first_solution = refined;
         EXPECT_EQ(
             std::memcmp(refined.data(), first_solution.data(), sizeof(double) * refined.size()), 0)
             << threads << " thread(s), run " << run;
       }
     }
-    cholmod_l_free_dense(&b, &common_);
+    const std::vector<double> untouched = lower();  // the floats are the object's own
+    EXPECT_EQ(std::memcmp(untouched.data(), cholmod.data(), sizeof(double) * cholmod.size()), 0);
   }
 
   cholmod_common common_;

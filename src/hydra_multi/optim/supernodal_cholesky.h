@@ -71,18 +71,18 @@ class SupernodalCholesky {
     std::vector<float> inverse, rows_below;  // its inverse, and L21 as sgemm writes it
     template <typename T>
     std::vector<T>& updates() {
-      if constexpr (std::is_same_v<T, float>) {
-        return update_single;
-      } else {
-        return update;
-      }
+      return pick<T>(update, update_single);
     }
     template <typename T>
     std::vector<T>& gatheredRows() {
+      return pick<T>(gathered, gathered_single);
+    }
+    template <typename T>
+    static std::vector<T>& pick(std::vector<double>& d, std::vector<float>& f) {
       if constexpr (std::is_same_v<T, float>) {
-        return gathered_single;
+        return f;
       } else {
-        return gathered;
+        return d;
       }
     }
   };
