@@ -13,6 +13,8 @@
 #include <system_error>
 #include <thread>
 
+#include "hydra_multi/core/parallel.h"
+
 extern "C" {
 // BLAS and LAPACK (Fortran symbols, 32-bit integers), as CHOLMOD calls them.
 void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
@@ -169,6 +171,22 @@ SupernodalCholesky::SupernodalCholesky(const cholmod_factor& symbolic) {
       if (task_[s] >= 0) task_members_[at[task_[s]]++] = s;
       if (task_[s] == kTop) top_.push_back(s);
     }
+    // Per subtree supernode, its rows below that are its subtree's (the first ones: ancestors in
+    // the top part come after); the rest take a place each in the forward substitution's buffer.
+    own_below_.assign(supernodes, 0);
+    top_update_start_.assign(best_tasks.size() + 1, 0);
+    for (size_t t = 0; t < best_tasks.size(); ++t) {
+      size_t places = 0;
+      for (size_t k = task_start_[t]; k < task_start_[t + 1]; ++k) {
+        const Int m = task_members_[k];
+        Int p = pi[m] + (super[m + 1] - super[m]);
+        const Int first_below = p;
+        while (p < pi[m + 1] && task_[owner_[rows[p]]] != kTop) ++p;
+        own_below_[m] = p - first_below;
+        places += pi[m + 1] - p;
+      }
+      top_update_start_[t + 1] = top_update_start_[t] + places;
+    }
   }
   every_.resize(supernodes);
   std::iota(every_.begin(), every_.end(), Int{0});
@@ -262,7 +280,7 @@ bool SupernodalCholesky::factorizeIn(const cholmod_sparse& A, cholmod_factor& L,
 
 template <typename T>
 void SupernodalCholesky::substitute(const cholmod_factor& L, const T* values, Int s, bool forward,
-                                    T* x, T* gathered) {
+                                    T* x, T* gathered, Int own, T* top_updates) {
   const auto* super = static_cast<const Int*>(L.super);
   const auto* pi = static_cast<const Int*>(L.pi);
   const auto* rows = static_cast<const Int*>(L.s) + pi[s];
@@ -271,20 +289,65 @@ void SupernodalCholesky::substitute(const cholmod_factor& L, const T* values, In
   const int height = static_cast<int>(pi[s + 1] - pi[s]), below = height - columns;
   const int one = 1;
   const T minus_one = -1, plus_one = 1;
-  for (int i = 0; i < below; ++i) gathered[i] = x[rows[columns + i]];
   T* x1 = x + super[s];
   if (forward) {
-    // x1 <- L1^-1 x1, then E <- E - L2 x1, scattered back
+    // x1 <- L1^-1 x1, then E <- E - L2 x1, scattered back; past `own` rows, -L2 x1 to the buffer
+    const int kept = own < 0 ? below : static_cast<int>(own);
+    for (int i = 0; i < kept; ++i) gathered[i] = x[rows[columns + i]];
+    std::fill(gathered + kept, gathered + below, T{0});
     Dense<T>::trsv("L", "N", "N", &columns, Ls, &height, x1, &one);
     Dense<T>::gemv("N", &below, &columns, &minus_one, Ls + columns, &height, x1, &one, &plus_one,
                    gathered, &one);
-    for (int i = 0; i < below; ++i) x[rows[columns + i]] = gathered[i];
+    for (int i = 0; i < kept; ++i) x[rows[columns + i]] = gathered[i];
+    std::copy(gathered + kept, gathered + below, top_updates);
   } else {
     // x1 <- x1 - L2^T E, then x1 <- L1^-T x1
+    for (int i = 0; i < below; ++i) gathered[i] = x[rows[columns + i]];
     Dense<T>::gemv("C", &below, &columns, &minus_one, Ls + columns, &height, gathered, &one,
                    &plus_one, x1, &one);
     Dense<T>::trsv("L", "C", "N", &columns, Ls, &height, x1, &one);
   }
+}
+
+void SupernodalCholesky::runTasks(int threads, const std::function<void(size_t, int)>& task) {
+  std::atomic<size_t> next_task{0};
+  const auto run = [&](int thread) {
+    for (size_t t = next_task++; t + 1 < task_start_.size(); t = next_task++) task(t, thread);
+  };
+  if (threads < 2) return run(0);
+  try {
+    std::thread second(run, 1);
+    run(0);
+    second.join();
+  } catch (const std::system_error&) {  // no second thread: the first takes every subtree
+    run(0);
+  }
+}
+
+void SupernodalCholesky::forwardInTasks(const cholmod_factor& L, float* x, int threads) {
+  // The subtrees, each with its updates to the top part's rows in places of its own, added in the
+  // order of the subtrees; then the top part.
+  const auto* super = static_cast<const Int*>(L.super);
+  const auto* pi = static_cast<const Int*>(L.pi);
+  const auto* rows = static_cast<const Int*>(L.s);
+  const float* values = single_values_;
+  top_updates_.resize(top_update_start_.back());
+  runTasks(threads, [&](size_t t, int thread) {
+    float* buffer = work_[thread].gatheredRows<float>().data();
+    float* updates = top_updates_.data() + top_update_start_[t];
+    for (size_t k = task_start_[t]; k < task_start_[t + 1]; ++k) {
+      const Int s = task_members_[k];
+      substitute(L, values, s, true, x, buffer, own_below_[s], updates);
+      updates += (pi[s + 1] - pi[s]) - (super[s + 1] - super[s]) - own_below_[s];
+    }
+  });
+  const float* update = top_updates_.data();
+  for (const Int s : task_members_) {
+    for (Int p = pi[s] + (super[s + 1] - super[s]) + own_below_[s]; p < pi[s + 1]; ++p)
+      x[rows[p]] += *update++;
+  }
+  float* gathered = work_[0].gatheredRows<float>().data();
+  for (const Int s : top_) substitute(L, values, s, true, x, gathered);
 }
 
 template <typename T>
@@ -293,28 +356,27 @@ void SupernodalCholesky::solveIn(const cholmod_factor& L, T* x, int threads) {
   const T* values = valuesOf<T>(L);
   for (Workspace& work : work_) work.gatheredRows<T>().resize(max_rows_);
   T* gathered = work_[0].gatheredRows<T>().data();
-  for (Int s = 0; s < supernodes; ++s) substitute(L, values, s, true, x, gathered);
+  bool forward_done = false;
+  if constexpr (std::is_same_v<T, float>) {
+    if (two_threads_) {
+      forwardInTasks(L, x, threads);
+      forward_done = true;
+    }
+  }
+  if (!forward_done) {
+    for (Int s = 0; s < supernodes; ++s) substitute(L, values, s, true, x, gathered);
+  }
   if (threads < 2 || !two_threads_) {
     for (Int s = supernodes; s-- > 0;) substitute(L, values, s, false, x, gathered);
     return;
   }
   // The top part, whose rows are its own; then each subtree, whose rows are its own or the top's.
   for (size_t k = top_.size(); k-- > 0;) substitute(L, values, top_[k], false, x, gathered);
-  std::atomic<size_t> next_task{0};
-  const auto run = [&](int thread) {
+  runTasks(threads, [&](size_t t, int thread) {
     T* buffer = work_[thread].gatheredRows<T>().data();
-    for (size_t t = next_task++; t + 1 < task_start_.size(); t = next_task++) {
-      for (size_t k = task_start_[t + 1]; k-- > task_start_[t];)
-        substitute(L, values, task_members_[k], false, x, buffer);
-    }
-  };
-  try {
-    std::thread second(run, 1);
-    run(0);
-    second.join();
-  } catch (const std::system_error&) {  // no second thread: the first takes every subtree
-    run(0);
-  }
+    for (size_t k = task_start_[t + 1]; k-- > task_start_[t];)
+      substitute(L, values, task_members_[k], false, x, buffer);
+  });
 }
 
 void SupernodalCholesky::solve(const cholmod_factor& L, double* x, int threads) {
@@ -330,22 +392,41 @@ void SupernodalCholesky::solve(const cholmod_sparse& A, const cholmod_factor& L,
   const size_t n = L.n;
   refined_.assign(x, x + n);  // b
   solve(L, x, threads);
-  // r = b - A x, A symmetric by its lower triangle; x += L^-T L^-1 r.
+  // r = b - A x, A symmetric by its lower triangle; x += L^-T L^-1 r. A's columns in two halves
+  // by their entries, the first half's terms in the second half's rows summed apart, then added:
+  // the same sums on one thread or two.
   const auto* Ap = static_cast<const Int*>(A.p);
   const auto* Anz = static_cast<const Int*>(A.nz);
   const auto* Ai = static_cast<const Int*>(A.i);
   const auto* Ax = static_cast<const double*>(A.x);
-  for (Int j = 0; j < static_cast<Int>(A.ncol); ++j) {
-    const Int end = A.packed ? Ap[j + 1] : Ap[j] + Anz[j];
-    double along_j = 0.0;
-    for (Int q = Ap[j]; q < end; ++q) {
-      const Int i = Ai[q];
-      if (i < j) continue;
-      along_j += Ax[q] * x[i];
-      if (i != j) refined_[i] -= Ax[q] * x[j];
+  const Int columns = static_cast<Int>(A.ncol);
+  const Int half = static_cast<Int>(std::lower_bound(Ap, Ap + columns, Ap[columns] / 2) - Ap);
+  spilled_.assign(columns - half, 0.0);
+  const auto part = [&](Int first, Int last) {
+    for (Int j = first; j < last; ++j) {
+      const Int end = A.packed ? Ap[j + 1] : Ap[j] + Anz[j];
+      double along_j = 0.0;
+      for (Int q = Ap[j]; q < end; ++q) {
+        const Int i = Ai[q];
+        if (i < j) continue;
+        along_j += Ax[q] * x[i];
+        if (i == j) continue;
+        if (j < half && i >= half) {
+          spilled_[i - half] += Ax[q] * x[j];
+        } else {
+          refined_[i] -= Ax[q] * x[j];
+        }
+      }
+      refined_[j] -= along_j;
     }
-    refined_[j] -= along_j;
+  };
+  if (threads >= 2 && two_threads_) {
+    runOnThreads(2, [&](size_t t) { t == 0 ? part(0, half) : part(half, columns); });
+  } else {
+    part(0, half);
+    part(half, columns);
   }
+  for (Int i = half; i < columns; ++i) refined_[i] -= spilled_[i - half];
   single_x_.assign(refined_.begin(), refined_.end());
   solveIn(L, single_x_.data(), threads);
   for (size_t k = 0; k < n; ++k) x[k] += single_x_[k];

@@ -20,6 +20,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <type_traits>
 #include <vector>
 
@@ -45,10 +46,14 @@ class SupernodalCholesky {
   /// substitution, supernode by supernode with the dense calls of CHOLMOD's (cholmod_l_solve on
   /// an LL' supernodal factor), so the same solution to the bit. The backward substitution, on
   /// two threads where the factorization splits: the top part first, then the subtrees.
-  /// x: in L's order, L.n values. A factor in single precision solves in floats.
+  /// x: in L's order, L.n values. A factor in single precision solves in floats, its forward
+  /// substitution on two threads too where the factorization splits: the subtrees, their updates
+  /// to the top part's rows then added in the subtrees' order, then the top part (the same
+  /// solution on one thread and on two, not CHOLMOD's order of additions).
   void solve(const cholmod_factor& L, double* x, int threads);
   /// The same; a factor in single precision then refines its solution once by A, the matrix it
-  /// factorized (its lower triangle): x += (L L^T)^-1 (b - A x), the residual in double.
+  /// factorized (its lower triangle): x += (L L^T)^-1 (b - A x), the residual in double, by A's
+  /// columns in two halves (on two threads where the factorization splits).
   void solve(const cholmod_sparse& A, const cholmod_factor& L, double* x, int threads);
   /// Whether the last factorize() was in single precision, and its floats (L's layout, L.xsize).
   bool single() const { return single_; }
@@ -94,9 +99,16 @@ class SupernodalCholesky {
   };
   // The forward substitution through supernode s, or the backward one; `gathered`: a buffer of
   // the supernode's rows below its columns.
+  // In the forward one, of the rows below only the first `own` (all where negative) are updated
+  // in x; the others' updates (-L2 x1) go to `top_updates`, in order.
   template <typename T>
   static void substitute(const cholmod_factor& L, const T* values, Int s, bool forward, T* x,
-                         T* gathered);
+                         T* gathered, Int own = -1, T* top_updates = nullptr);
+  // Runs task(t, thread) for every subtree t, each on the thread free first.
+  void runTasks(int threads, const std::function<void(size_t, int)>& task);
+  // The forward substitution in floats with the subtrees on `threads` threads: the same result on
+  // one thread and on two.
+  void forwardInTasks(const cholmod_factor& L, float* x, int threads);
   template <typename T>
   T* valuesOf(const cholmod_factor& L) const;  // L.x, or the floats
   template <typename T>
@@ -114,6 +126,9 @@ class SupernodalCholesky {
   std::vector<int32_t> task_;       // supernode -> its subtree's task, kTop, or kAll (one thread)
   std::vector<size_t> task_start_;  // the tasks' supernodes, in order: task t's from start[t]
   std::vector<Int> task_members_, top_, every_;  // every_: 0 .. nsuper - 1, one thread's order
+  std::vector<Int> own_below_;            // subtree supernode -> its rows below in its subtree
+  std::vector<size_t> top_update_start_;  // task -> its first place in top_updates_
+  std::vector<float> top_updates_;        // the subtrees' updates to the top part's rows
   size_t max_rows_ = 0, max_update_ = 0;
   double total_flops_ = 0.0;
   bool two_threads_ = false;
@@ -126,6 +141,8 @@ class SupernodalCholesky {
   size_t single_size_ = 0;
   std::vector<float> single_x_;  // a solve's right-hand side in floats
   std::vector<double> refined_;  // b, then the residual b - A x
+  std::vector<double>
+      spilled_;  // A x's terms from the first half of the columns in the second's rows
 };
 
 }  // namespace hydra_multi
