@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 #include <set>
 #include <thread>
@@ -505,6 +506,9 @@ TEST(PoseGraphOptimizer, FactorsInSinglePrecisionRefinedTakeTheStepsOfDoublePrec
     };
     const auto [exact, exact_poses] = solved(-1.0);
     const auto [single, single_poses] = solved(0.0);
+    EXPECT_EQ(exact.single_precision_factorizations, 0);
+    EXPECT_GT(single.single_precision_factorizations, 0);
+    EXPECT_EQ(single.single_precision_fallbacks, 0);
     EXPECT_EQ(single.iterations, exact.iterations);
     EXPECT_NEAR(single.final_cost, exact.final_cost, 1e-9 * exact.final_cost);
     double largest = 0.0;
@@ -513,6 +517,38 @@ TEST(PoseGraphOptimizer, FactorsInSinglePrecisionRefinedTakeTheStepsOfDoublePrec
     EXPECT_LT(largest, 1e-5);
     EXPECT_GT(largest, 0.0) << "factorized in floats";
   }
+}
+
+// Every edge's information times 2^126 (the same minimum; exact in double): H's entries are then
+// beyond floats' range, so each factorization asked for in single precision fails in it and is
+// made in double instead, and the solve takes the steps of double precision to the bit.
+TEST(PoseGraphOptimizer, AFactorizationBeyondFloatsRangeIsMadeInDouble) {
+  PoseGraph g = sphere2500();
+  ASSERT_FALSE(g.edges.empty());
+  for (PoseGraphEdge& edge : g.edges) edge.information *= std::ldexp(1.0, 126);
+  const NodeId anchor = g.poses.begin()->first;
+  const auto solved = [&](double single_from_flops) {
+    PoseGraphOptimizerOptions options;
+    options.max_iterations = 4;
+    options.single_precision_from_flops = single_from_flops;
+    PoseGraphProblem problem(g, g.poses, anchor, options);
+    const SolveSummary summary = problem.solve();
+    EXPECT_TRUE(summary.usable) << summary.message;
+    return std::make_pair(summary, problem.poses());
+  };
+  const auto [exact, exact_poses] = solved(-1.0);
+  const auto [fallen_back, fallen_back_poses] = solved(0.0);
+  EXPECT_EQ(fallen_back.single_precision_factorizations, 0);
+  EXPECT_EQ(fallen_back.single_precision_fallbacks, fallen_back.iterations);
+  EXPECT_NE(fallen_back.message.find("made in double where single precision failed"),
+            std::string::npos)
+      << fallen_back.message;
+  EXPECT_GT(fallen_back.iterations, 0);
+  EXPECT_LT(exact.final_cost, exact.initial_cost);
+  EXPECT_EQ(fallen_back.iterations, exact.iterations);
+  EXPECT_EQ(fallen_back.final_cost, exact.final_cost);
+  for (const auto& [id, T] : exact_poses)
+    EXPECT_EQ(T.matrix(), fallen_back_poses.at(id).matrix()) << id.value();
 }
 
 // An analysis made ahead on another thread (PoseGraphOptimizerOptions::analyses, keep_analysis),

@@ -201,6 +201,8 @@ SolveSummary PoseGraphProblem::solve() {
     result.final_cost = summary.final_cost;
     result.time_s = summary.time_s;
     result.factorization_s = summary.factorization_s;
+    result.single_precision_factorizations = summary.single_precision_factorizations;
+    result.single_precision_fallbacks = summary.single_precision_fallbacks;
     result.analysis_s = std::exchange(m.analysis_s, 0.0);
     if (o.verbose) std::fprintf(stderr, "%s\n", summary.message.c_str());
     return result;

@@ -67,6 +67,8 @@ struct SolveSummary {
   /// of the problem's pattern (its ordering and symbolic factorization) since the last solve.
   double factorization_s = 0;
   double analysis_s = 0;
+  /// Factorizations in single precision, and those that failed in it and were made in double.
+  int single_precision_factorizations = 0, single_precision_fallbacks = 0;
 };
 
 /// Where solves' time went, summed over them (SolveSummary): in Levenberg-Marquardt, of it in the

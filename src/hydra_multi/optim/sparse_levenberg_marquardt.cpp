@@ -245,6 +245,14 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
   const auto finish = [&](const std::string& why) {
     summary.message = "Levenberg-Marquardt (CHOLMOD): " + why + ", " +
                       std::to_string(summary.iterations) + " iterations";
+    if (summary.single_precision_factorizations + summary.single_precision_fallbacks > 0) {
+      summary.message += ", " + std::to_string(summary.single_precision_factorizations) +
+                         " factorizations in single precision";
+    }
+    if (summary.single_precision_fallbacks > 0) {
+      summary.message += ", " + std::to_string(summary.single_precision_fallbacks) +
+                         " made in double where single precision failed";
+    }
     summary.time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return summary;
@@ -300,7 +308,7 @@ LmSummary SparseLevenbergMarquardt::solve(std::vector<PoseParameters>& poses,
     }
     const auto factorization_start = std::chrono::steady_clock::now();
     const bool positive =
-        eliminated && m.factorize(options.threads, options.single_precision_from_flops);
+        eliminated && m.factorize(options.threads, options.single_precision_from_flops, summary);
     summary.factorization_s +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - factorization_start)
             .count();

@@ -70,6 +70,9 @@ struct LmSummary {
   double initial_cost = 0.0, final_cost = 0.0;
   double time_s = 0.0;
   double factorization_s = 0.0;  ///< of time_s: the numeric factorizations
+  /// Factorizations in single precision (LmOptions::single_precision_from_flops), and those tried
+  /// in single precision that failed and were made in double instead.
+  int single_precision_factorizations = 0, single_precision_fallbacks = 0;
 };
 
 class SparseAnalyses;

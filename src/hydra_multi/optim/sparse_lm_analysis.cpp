@@ -363,15 +363,21 @@ bool SparseLevenbergMarquardt::Impl::allocateValues() {
          L->x != nullptr;
 }
 
-bool SparseLevenbergMarquardt::Impl::factorize(int threads, double single_from_flops) {
+bool SparseLevenbergMarquardt::Impl::factorize(int threads, double single_from_flops,
+                                               LmSummary& summary) {
   if (supernodal == nullptr)
     return cholmod_l_factorize(H, L, &common) && common.status == CHOLMOD_OK;
   // In single precision where large enough (L then needs no values of its own); where that
   // fails, in double.
-  const bool single = single_from_flops >= 0.0 && supernodal->flops() >= single_from_flops;
-  if (!(single && supernodal->factorize(*H, *L, threads, true)) &&
-      !(allocateValues() && supernodal->factorize(*H, *L, threads)))
-    return false;
+  if (single_from_flops >= 0.0 && supernodal->flops() >= single_from_flops) {
+    if (supernodal->factorize(*H, *L, threads, true)) {
+      ++summary.single_precision_factorizations;
+      L->minor = L->n;
+      return true;
+    }
+    ++summary.single_precision_fallbacks;
+  }
+  if (!(allocateValues() && supernodal->factorize(*H, *L, threads))) return false;
   L->minor = L->n;
   return true;
 }

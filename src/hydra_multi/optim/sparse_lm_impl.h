@@ -207,7 +207,7 @@ struct SparseLevenbergMarquardt::Impl {
   // `threads` threads, its values allocated first where it has none, in single precision where
   // it takes at least `single_from_flops` (>= 0) and that succeeds; a simplicial L by CHOLMOD.
   // False where A is not positive definite.
-  bool factorize(int threads, double single_from_flops);
+  bool factorize(int threads, double single_from_flops, LmSummary& summary);
 
   // Where the eliminations split for two threads (elimination_split, Elimination::deferred), from
   // `blocks`, the number of H's blocks. Once, by the analysis.

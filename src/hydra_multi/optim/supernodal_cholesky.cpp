@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstring>
 #include <exception>
 #include <functional>
+#include <limits>
 #include <mutex>
 #include <new>
 #include <numeric>
@@ -459,7 +461,11 @@ bool SupernodalCholesky::factorPart(const cholmod_sparse& A, cholmod_factor& L, 
       T* column = Ls + (j - k1) * height;
       const Int end = A.packed ? Ap[j + 1] : Ap[j] + Anz[j];
       for (Int q = Ap[j]; q < end; ++q) {
-        if (Ai[q] >= j) column[work.map[Ai[q]]] = static_cast<T>(Ax[q]);
+        if (Ai[q] < j) continue;
+        if constexpr (std::is_same_v<T, float>) {  // beyond floats' range: no factor in them
+          if (!(std::fabs(Ax[q]) <= std::numeric_limits<float>::max())) return false;
+        }
+        column[work.map[Ai[q]]] = static_cast<T>(Ax[q]);
       }
     }
     descendants.clear();

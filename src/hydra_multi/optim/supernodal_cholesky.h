@@ -39,7 +39,8 @@ class SupernodalCholesky {
   /// L: the factor the plan was made for, its numeric values allocated (real, supernodal LL'),
   /// except with `single`: the factor in single precision, in floats of this object's own
   /// (singleValues(); allocated through SuiteSparse's allocator, in L's layout).
-  /// False where A is not positive definite (a pivot not above zero); L is then unusable.
+  /// False where A is not positive definite (a pivot not above zero), or in single precision where
+  /// an entry of A is beyond floats' range; L is then unusable.
   bool factorize(const cholmod_sparse& A, cholmod_factor& L, int threads, bool single = false);
 
   /// x <- A^-1 x by the factor L of A that factorize() made: L's forward then backward
