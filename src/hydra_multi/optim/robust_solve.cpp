@@ -8,6 +8,17 @@ namespace robust_pgo {
 
 std::string seconds(double s) { return std::to_string(s) + " s"; }
 
+namespace {
+
+// The factorizations a solve asked for in single precision that were made in double, if any.
+std::string fallbacks(const SolveSummary& summary) {
+  if (summary.single_precision_fallbacks == 0) return "";
+  return "; " + std::to_string(summary.single_precision_fallbacks) +
+         " factorizations made in double where single precision failed";
+}
+
+}  // namespace
+
 SolveSummary solveOverInliers(const PoseGraph& graph, const std::vector<bool>& inlier,
                               std::map<NodeId, Eigen::Isometry3d>& poses, NodeId anchor,
                               const RobustPgoOptions& options) {
@@ -107,7 +118,7 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
                        std::to_string(summary.iterations) + " iterations in " +
                        seconds(summary.time_s) + ", cost " + std::to_string(summary.final_cost) +
                        ", " + std::to_string(kept) + " of " + std::to_string(weights.size()) +
-                       " loop closures weighted > 0.5");
+                       " loop closures weighted > 0.5" + fallbacks(summary));
     }
     return solution;
   };
@@ -214,7 +225,7 @@ RobustPgoResult optimizeReduced(const PoseGraph& graph,
                          " iterations in " + seconds(summary.time_s) + ", cost " +
                          std::to_string(summary.initial_cost) + " -> " +
                          std::to_string(summary.final_cost) + "; " + std::to_string(readmitted) +
-                         " rejected loop closures fit it again");
+                         " rejected loop closures fit it again" + fallbacks(summary));
       }
       if (readmitted == 0) break;
       if (round == 0) result.held_out_poses = result.poses;  // re-admission leaves them
