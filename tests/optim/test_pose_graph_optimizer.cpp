@@ -483,6 +483,21 @@ TEST(PoseGraphOptimizer, SolverThreadsTakeTheStepsOfOneThreadToTheBit) {
   threadsTakeTheStepsOfOne(grid, 0);
 }
 
+// `g` solved from `start` on two threads, the factorizations of at least `single_from_flops` flops
+// in single precision (negative: none); its summary and poses.
+std::pair<SolveSummary, std::map<NodeId, Eigen::Isometry3d>> solvedInPrecision(
+    const PoseGraph& g, const std::map<NodeId, Eigen::Isometry3d>& start, NodeId anchor,
+    double single_from_flops, int max_iterations = PoseGraphOptimizerOptions{}.max_iterations) {
+  PoseGraphOptimizerOptions options;
+  options.linearization_threads = 2;
+  options.max_iterations = max_iterations;
+  options.single_precision_from_flops = single_from_flops;
+  PoseGraphProblem problem(g, start, anchor, options);
+  const SolveSummary summary = problem.solve();
+  EXPECT_TRUE(summary.usable) << summary.message;
+  return {summary, problem.poses()};
+}
+
 // The factorizations in single precision, each solve refined once in double
 // (single_precision_from_flops 0: all of them), on the real benchmarks from chordal
 // initialization: the steps of double precision within rounding, so the same iterations, the
@@ -495,17 +510,8 @@ TEST(PoseGraphOptimizer, FactorsInSinglePrecisionRefinedTakeTheStepsOfDoublePrec
     const NodeId anchor = g.poses.begin()->first;
     const auto start = chordalInitialization(g, anchor);
     ASSERT_TRUE(start.ok()) << start.error();
-    const auto solved = [&](double single_from_flops) {
-      PoseGraphOptimizerOptions options;
-      options.linearization_threads = 2;
-      options.single_precision_from_flops = single_from_flops;
-      PoseGraphProblem problem(g, start.value(), anchor, options);
-      const SolveSummary summary = problem.solve();
-      EXPECT_TRUE(summary.usable) << summary.message;
-      return std::make_pair(summary, problem.poses());
-    };
-    const auto [exact, exact_poses] = solved(-1.0);
-    const auto [single, single_poses] = solved(0.0);
+    const auto [exact, exact_poses] = solvedInPrecision(g, start.value(), anchor, -1.0);
+    const auto [single, single_poses] = solvedInPrecision(g, start.value(), anchor, 0.0);
     EXPECT_EQ(exact.single_precision_factorizations, 0);
     EXPECT_GT(single.single_precision_factorizations, 0);
     EXPECT_EQ(single.single_precision_fallbacks, 0);
@@ -527,17 +533,8 @@ TEST(PoseGraphOptimizer, AFactorizationBeyondFloatsRangeIsMadeInDouble) {
   ASSERT_FALSE(g.edges.empty());
   for (PoseGraphEdge& edge : g.edges) edge.information *= std::ldexp(1.0, 126);
   const NodeId anchor = g.poses.begin()->first;
-  const auto solved = [&](double single_from_flops) {
-    PoseGraphOptimizerOptions options;
-    options.max_iterations = 4;
-    options.single_precision_from_flops = single_from_flops;
-    PoseGraphProblem problem(g, g.poses, anchor, options);
-    const SolveSummary summary = problem.solve();
-    EXPECT_TRUE(summary.usable) << summary.message;
-    return std::make_pair(summary, problem.poses());
-  };
-  const auto [exact, exact_poses] = solved(-1.0);
-  const auto [fallen_back, fallen_back_poses] = solved(0.0);
+  const auto [exact, exact_poses] = solvedInPrecision(g, g.poses, anchor, -1.0, 4);
+  const auto [fallen_back, fallen_back_poses] = solvedInPrecision(g, g.poses, anchor, 0.0, 4);
   EXPECT_EQ(fallen_back.single_precision_factorizations, 0);
   EXPECT_EQ(fallen_back.single_precision_fallbacks, fallen_back.iterations);
   EXPECT_NE(fallen_back.message.find("made in double where single precision failed"),
