@@ -12,6 +12,7 @@
 
 #include "hydra_multi/optim/fill_reducing_ordering.h"
 #include "hydra_multi/optim/io/g2o_format.h"
+#include "hydra_multi/optim/sparse_lm_impl.h"
 #include "support/random_graphs.h"
 
 namespace hydra_multi {
@@ -277,6 +278,48 @@ TEST_F(SupernodalCholeskyForestTest, TheFactorAndSolutionAreCholmodsToTheBit) {
   factorIsCholmods(3);
   solutionIsCholmods(3);
   singlePrecisionIsCholmodsWithinItsError(2);
+}
+
+// The solver's symbolic factor made from A's block pattern (sparse_lm::supernodalFromBlocks):
+// CHOLMOD's counts of the scalar factor exactly, supernodes and a factor size within 1 % of
+// CHOLMOD's analysis of the scalar pattern, and a factor on which the supernodal factorization
+// solves A x = b as CHOLMOD does, within 1e-12 (the partition differs, so not to the bit).
+TEST_F(SupernodalCholeskyTest, TheSymbolicFactorFromTheBlockPatternFactorizesA) {
+  const double fl = common_.fl, lnz = common_.lnz;  // of the scalar analysis in SetUp
+  ASSERT_TRUE(cholmod_l_factorize(A_, L_, &common_));
+  const std::vector<double> rhs = rightHandSide();
+  const std::vector<double> exact = cholmodSolution(rhs);
+  const size_t blocks = A_->ncol / 6;
+  std::vector<std::vector<long>> columns(blocks);  // block rows, from A's columns 6c
+  const auto* p = static_cast<const SuiteSparse_long*>(A_->p);
+  const auto* i = static_cast<const SuiteSparse_long*>(A_->i);
+  for (size_t c = 0; c < blocks; ++c) {
+    for (SuiteSparse_long q = p[6 * c]; q < p[6 * c + 1]; ++q) {
+      if (columns[c].empty() || columns[c].back() != i[q] / 6) columns[c].push_back(i[q] / 6);
+    }
+  }
+  double block_fl = 0.0, block_lnz = 0.0;  // the common's thresholds, as the solver passes them
+  cholmod_factor* L =
+      sparse_lm::supernodalFromBlocks(columns, common_.nrelax, common_, block_fl, block_lnz);
+  ASSERT_NE(L, nullptr);
+  EXPECT_EQ(common_.nrelax[0], 8u) << "the common's own thresholds kept";
+  EXPECT_EQ(common_.supernodal, CHOLMOD_SUPERNODAL);
+  EXPECT_EQ(block_fl, fl);
+  EXPECT_EQ(block_lnz, lnz);
+  EXPECT_TRUE(L->is_super);
+  EXPECT_NEAR(double(L->nsuper), double(L_->nsuper), 0.01 * double(L_->nsuper));
+  EXPECT_NEAR(double(L->xsize), double(L_->xsize), 0.01 * double(L_->xsize));
+  ASSERT_TRUE(cholmod_l_change_factor(CHOLMOD_REAL, true, true, true, true, L, &common_));
+  {
+    SupernodalCholesky ours(*L);
+    for (const int threads : {1, 2}) {
+      ASSERT_TRUE(ours.factorize(*A_, *L, threads));
+      std::vector<double> x = rhs;
+      ours.solve(*L, x.data(), threads);
+      EXPECT_LT(relativeError(x, exact), 1e-12) << threads << " thread(s)";
+    }
+  }
+  cholmod_l_free_factor(&L, &common_);
 }
 
 TEST_F(SupernodalCholeskyTest, AMatrixNotPositiveDefiniteIsNotFactorized) {

@@ -145,6 +145,100 @@ void SparseLevenbergMarquardt::Impl::splitEliminations(size_t blocks) {
   deferred_rhs.reserve(rhs_deferred);
 }
 
+cholmod_factor* sparse_lm::supernodalFromBlocks(const std::vector<std::vector<long>>& columns,
+                                                const size_t scalar_nrelax[3],
+                                                cholmod_common& common, double& fl, double& lnz) {
+  using Int = SuiteSparse_long;
+  const size_t blocks = columns.size(), n = 6 * blocks;
+  size_t entries = 0;
+  for (const auto& column : columns) entries += column.size();
+  cholmod_sparse* B =
+      cholmod_l_allocate_sparse(blocks, blocks, entries, /*sorted=*/1,
+                                /*packed=*/1, /*stype=*/-1, CHOLMOD_PATTERN, &common);
+  if (B == nullptr) return nullptr;
+  auto* Bp = static_cast<Int*>(B->p);
+  auto* Bi = static_cast<Int*>(B->i);
+  Int at = 0;
+  for (size_t c = 0; c < blocks; ++c) {
+    Bp[c] = at;
+    for (const long r : columns[c]) Bi[at++] = r;
+  }
+  Bp[blocks] = at;
+  const int supernodal = common.supernodal;
+  const size_t kept_nrelax[3] = {common.nrelax[0], common.nrelax[1], common.nrelax[2]};
+  const size_t block_nrelax[3] = {scalar_nrelax[0] / 6, scalar_nrelax[1] / 6, scalar_nrelax[2] / 6};
+  std::copy(block_nrelax, block_nrelax + 3, common.nrelax);
+  common.supernodal = CHOLMOD_SUPERNODAL;
+  cholmod_factor* Lb = cholmod_l_analyze(B, &common);
+  std::copy(kept_nrelax, kept_nrelax + 3, common.nrelax);
+  common.supernodal = supernodal;
+  cholmod_l_free_sparse(&B, &common);
+  if (Lb == nullptr) return nullptr;
+  const auto* counts = static_cast<const Int*>(Lb->ColCount);
+  fl = lnz = 0.0;
+  for (size_t c = 0; c < blocks; ++c) {
+    for (int i = 0; i < 6; ++i) {
+      const double count = 6.0 * double(counts[c]) - i;
+      fl += count * count;
+      lnz += count;
+    }
+  }
+  cholmod_factor* L = nullptr;
+  if (Lb->is_super && fl >= common.supernodal_switch * lnz) {
+    L = cholmod_l_allocate_factor(n, &common);
+    const size_t nsuper = Lb->nsuper;
+    const auto* super_b = static_cast<const Int*>(Lb->super);
+    const auto* pi_b = static_cast<const Int*>(Lb->pi);
+    const auto* s_b = static_cast<const Int*>(Lb->s);
+    const size_t rows_b = static_cast<size_t>(pi_b[nsuper]);
+    Int *super = nullptr, *pi = nullptr, *px = nullptr, *s = nullptr;
+    if (L != nullptr) {
+      super = static_cast<Int*>(cholmod_l_malloc(nsuper + 1, sizeof(Int), &common));
+      pi = static_cast<Int*>(cholmod_l_malloc(nsuper + 1, sizeof(Int), &common));
+      px = static_cast<Int*>(cholmod_l_malloc(nsuper + 1, sizeof(Int), &common));
+      s = static_cast<Int*>(
+          cholmod_l_malloc(std::max<size_t>(6 * rows_b, 1), sizeof(Int), &common));
+    }
+    if (super == nullptr || pi == nullptr || px == nullptr || s == nullptr) {
+      cholmod_l_free(nsuper + 1, sizeof(Int), super, &common);
+      cholmod_l_free(nsuper + 1, sizeof(Int), pi, &common);
+      cholmod_l_free(nsuper + 1, sizeof(Int), px, &common);
+      cholmod_l_free(std::max<size_t>(6 * rows_b, 1), sizeof(Int), s, &common);
+      cholmod_l_free_factor(&L, &common);
+    } else {
+      auto* scalar_counts = static_cast<Int*>(L->ColCount);
+      for (size_t c = 0; c < blocks; ++c) {
+        for (int i = 0; i < 6; ++i) scalar_counts[6 * c + i] = 6 * counts[c] - i;
+      }
+      px[0] = 0;
+      for (size_t k = 0; k <= nsuper; ++k) {
+        super[k] = 6 * super_b[k];
+        pi[k] = 6 * pi_b[k];
+        if (k > 0) px[k] = px[k - 1] + (super[k] - super[k - 1]) * (pi[k] - pi[k - 1]);
+      }
+      for (size_t q = 0; q < rows_b; ++q) {
+        for (int i = 0; i < 6; ++i) s[6 * q + i] = 6 * s_b[q] + i;
+      }
+      L->super = super;
+      L->pi = pi;
+      L->px = px;
+      L->s = s;
+      L->nsuper = nsuper;
+      L->ssize = std::max<size_t>(6 * rows_b, 1);
+      L->xsize = static_cast<size_t>(px[nsuper]);
+      L->maxcsize = 36 * Lb->maxcsize;
+      L->maxesize = 6 * Lb->maxesize;
+      L->is_super = true;
+      L->is_ll = Lb->is_ll;
+      L->is_monotonic = Lb->is_monotonic;
+      L->ordering = CHOLMOD_NATURAL;
+      L->minor = n;
+    }
+  }
+  cholmod_l_free_factor(&Lb, &common);
+  return L;
+}
+
 void SparseLevenbergMarquardt::Impl::analyze(size_t num_poses, const std::vector<bool>& fixed) {
   Impl& m = *this;
   keepSuiteSparseBlocks();  // the factor of the last problem, reused without page faults
@@ -337,8 +431,23 @@ void SparseLevenbergMarquardt::Impl::analyze(size_t num_poses, const std::vector
   m.common.postorder = 0;
   m.common.nmethods = 1;
   m.common.method[0].ordering = CHOLMOD_NATURAL;
-  m.L = cholmod_l_analyze(m.H, &m.common);
-  if (m.L != nullptr) m.flops = m.common.fl + elimination_flops;
+  // On the block pattern where the factor is supernodal (the scalar pattern has 36 entries a
+  // block); else CHOLMOD's own analysis, which then makes it simplicial.
+  std::vector<std::vector<long>> block_rows(m.reduced);
+  for (size_t c = 0; c < m.reduced; ++c) {
+    for (const long r : reduced_rows[c]) {
+      const long a = place[r], b = place[c];
+      block_rows[std::min(a, b)].push_back(std::max(a, b));
+    }
+  }
+  for (auto& rows_of : block_rows) std::sort(rows_of.begin(), rows_of.end());
+  double fl = 0.0, lnz = 0.0;
+  m.L = sparse_lm::supernodalFromBlocks(block_rows, m.common.nrelax, m.common, fl, lnz);
+  if (m.L == nullptr) {
+    m.L = cholmod_l_analyze(m.H, &m.common);
+    fl = m.common.fl;
+  }
+  if (m.L != nullptr) m.flops = fl + elimination_flops;
   if (m.L != nullptr && m.L->is_super && m.L->ordering == CHOLMOD_NATURAL)
     m.supernodal = std::make_unique<SupernodalCholesky>(*m.L);
   if (m.L != nullptr && !m.L->is_super) {

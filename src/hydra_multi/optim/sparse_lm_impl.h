@@ -41,6 +41,18 @@ void solveLowerTransposed(const Block& L, Vector6& x);
 // B <- B L^-T, column by column: each row of B as solveLower would take it, to the bit.
 void solveRightLowerTransposed(const Block& L, Block& B);
 
+// The supernodal symbolic factor of a matrix of dense 6x6 blocks in its natural order, by
+// CHOLMOD's analysis of its block pattern (36 times fewer entries): each block supernode's columns
+// and rows expanded six-fold, which is the scalar factor's pattern; the relaxed amalgamation's
+// column thresholds (`scalar_nrelax`) divided by 6, its shares of zeros counted by blocks.
+// `columns`: per block column, its block rows (itself and those below), sorted. Sets `fl` and
+// `lnz` to the scalar factor's counts as CHOLMOD's analysis of the scalar matrix would (the sum of
+// the squared column counts, and of the counts). Null where CHOLMOD would make the factor
+// simplicial (fl below common.supernodal_switch * lnz) or the analysis failed.
+cholmod_factor* supernodalFromBlocks(const std::vector<std::vector<long>>& columns,
+                                     const size_t scalar_nrelax[3], cholmod_common& common,
+                                     double& fl, double& lnz);
+
 }  // namespace sparse_lm
 
 struct SparseLevenbergMarquardt::Impl {
