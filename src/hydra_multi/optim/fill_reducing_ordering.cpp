@@ -30,28 +30,36 @@ std::optional<FillReducingOrdering> orderBy(cholmod_sparse* pattern, OrderingMet
 
 }  // namespace
 
+cholmod_sparse* patternMatrix(const std::vector<std::vector<long>>& rows, int stype,
+                              cholmod_common& common) {
+  const size_t n = rows.size();
+  size_t entries = 0;
+  for (const auto& column : rows) entries += column.size();
+  cholmod_sparse* pattern = cholmod_l_allocate_sparse(n, n, entries, /*sorted=*/1, /*packed=*/1,
+                                                      stype, CHOLMOD_PATTERN, &common);
+  if (pattern == nullptr) return nullptr;
+  auto* column_start = static_cast<SuiteSparse_long*>(pattern->p);
+  auto* row_index = static_cast<SuiteSparse_long*>(pattern->i);
+  long at = 0;
+  for (size_t c = 0; c < n; ++c) {
+    column_start[c] = at;
+    for (const long r : rows[c]) row_index[at++] = r;
+  }
+  column_start[n] = at;
+  return pattern;
+}
+
 std::optional<FillReducingOrdering> orderForCholesky(const std::vector<std::vector<long>>& rows,
                                                      size_t both_from,
                                                      std::optional<OrderingMethod> only) {
   const size_t n = rows.size();
-  size_t entries = 0;
-  for (const auto& column : rows) entries += column.size();
   cholmod_common common;
   cholmod_l_start(&common);
   common.print = 0;
   common.error_handler = nullptr;
-  cholmod_sparse* pattern = cholmod_l_allocate_sparse(n, n, entries, /*sorted=*/1, /*packed=*/1,
-                                                      /*stype=*/1, CHOLMOD_PATTERN, &common);
+  cholmod_sparse* pattern = patternMatrix(rows, /*stype=*/1, common);
   std::optional<FillReducingOrdering> best;
   if (pattern != nullptr) {
-    auto* column_start = static_cast<SuiteSparse_long*>(pattern->p);
-    auto* row_index = static_cast<SuiteSparse_long*>(pattern->i);
-    long at = 0;
-    for (size_t c = 0; c < n; ++c) {
-      column_start[c] = at;
-      for (const long r : rows[c]) row_index[at++] = r;
-    }
-    column_start[n] = at;
     std::vector<OrderingMethod> methods;
     if (only) {
       methods.push_back(*only);

@@ -6,6 +6,8 @@
 // Invariant: the ordering is postordered (each elimination subtree contiguous), and it is a
 // function of the pattern alone.
 
+#include <cholmod.h>
+
 #include <cstddef>
 #include <optional>
 #include <vector>
@@ -20,6 +22,11 @@ struct FillReducingOrdering {
   double flops = 0.0;        ///< of one factorization in this order (CHOLMOD's count)
   double nonzeros = 0.0;     ///< of the factor in this order
 };
+
+/// A square CHOLMOD pattern matrix with, per column, the rows `rows` lists (sorted), stored as
+/// the triangle `stype` says (1 upper, -1 lower); null where CHOLMOD cannot allocate it.
+cholmod_sparse* patternMatrix(const std::vector<std::vector<long>>& rows, int stype,
+                              cholmod_common& common);
 
 /// `rows`: per column c, the rows r <= c of its entries (c itself included), sorted. `only`: that
 /// method alone. Empty if no method succeeded (out of memory).

@@ -150,20 +150,8 @@ cholmod_factor* sparse_lm::supernodalFromBlocks(const std::vector<std::vector<lo
                                                 cholmod_common& common, double& fl, double& lnz) {
   using Int = SuiteSparse_long;
   const size_t blocks = columns.size(), n = 6 * blocks;
-  size_t entries = 0;
-  for (const auto& column : columns) entries += column.size();
-  cholmod_sparse* B =
-      cholmod_l_allocate_sparse(blocks, blocks, entries, /*sorted=*/1,
-                                /*packed=*/1, /*stype=*/-1, CHOLMOD_PATTERN, &common);
+  cholmod_sparse* B = patternMatrix(columns, /*stype=*/-1, common);
   if (B == nullptr) return nullptr;
-  auto* Bp = static_cast<Int*>(B->p);
-  auto* Bi = static_cast<Int*>(B->i);
-  Int at = 0;
-  for (size_t c = 0; c < blocks; ++c) {
-    Bp[c] = at;
-    for (const long r : columns[c]) Bi[at++] = r;
-  }
-  Bp[blocks] = at;
   const int supernodal = common.supernodal;
   const size_t kept_nrelax[3] = {common.nrelax[0], common.nrelax[1], common.nrelax[2]};
   const size_t block_nrelax[3] = {scalar_nrelax[0] / 6, scalar_nrelax[1] / 6, scalar_nrelax[2] / 6};
