@@ -346,9 +346,9 @@ void SparseLevenbergMarquardt::Impl::analyze(size_t num_poses, const std::vector
   // pattern for `values` false) and, with `values`, `column` and `transposed`, the eliminated
   // blocks' values after A's. An entry (i, j) of A's block at (R, C) is H's entry (i, j) of its
   // block where R is that block's row variable and R != C, else (j, i); a diagonal block keeps one
-  // triangle.
-  const auto store = [&](const std::vector<long>& position, int stype, bool values) {
-    const auto columns = placeBlocks(position, stype);
+  // triangle. `columns`: placeBlocks(position, stype).
+  const auto store = [&](const std::vector<long>& position, const auto& columns, int stype,
+                         bool values) {
     cholmod_sparse* A = cholmod_l_allocate_sparse(
         n, n, nonzeros + (values ? 36 * tail_blocks : 0), /*sorted=*/1, /*packed=*/1, stype,
         values ? CHOLMOD_REAL : CHOLMOD_PATTERN, &m.common);
@@ -412,7 +412,8 @@ void SparseLevenbergMarquardt::Impl::analyze(size_t num_poses, const std::vector
   m.common.zrelax[0] = 0.8;
   m.common.zrelax[1] = 0.2;
   m.common.zrelax[2] = 0.1;
-  m.H = store(position, -1, true);
+  const auto lower = placeBlocks(position, -1);
+  m.H = store(position, lower, -1, true);
   if (m.H == nullptr) return;
   m.common.supernodal = CHOLMOD_AUTO;
   m.common.final_asis = 1;  // the factor as computed: no conversion after each factorization
@@ -423,12 +424,8 @@ void SparseLevenbergMarquardt::Impl::analyze(size_t num_poses, const std::vector
   // block); else CHOLMOD's own analysis, which then makes it simplicial.
   std::vector<std::vector<long>> block_rows(m.reduced);
   for (size_t c = 0; c < m.reduced; ++c) {
-    for (const long r : reduced_rows[c]) {
-      const long a = place[r], b = place[c];
-      block_rows[std::min(a, b)].push_back(std::max(a, b));
-    }
+    for (const auto& [r, k] : lower[c]) block_rows[c].push_back(r);
   }
-  for (auto& rows_of : block_rows) std::sort(rows_of.begin(), rows_of.end());
   double fl = 0.0, lnz = 0.0;
   m.L = sparse_lm::supernodalFromBlocks(block_rows, m.common.nrelax, m.common, fl, lnz);
   if (m.L == nullptr) {
@@ -440,7 +437,7 @@ void SparseLevenbergMarquardt::Impl::analyze(size_t num_poses, const std::vector
     m.supernodal = std::make_unique<SupernodalCholesky>(*m.L);
   if (m.L != nullptr && !m.L->is_super) {
     cholmod_l_free_sparse(&m.H, &m.common);
-    m.H = store(position, 1, true);
+    m.H = store(position, placeBlocks(position, 1), 1, true);
   }
 }
 
@@ -466,15 +463,12 @@ bool SparseLevenbergMarquardt::Impl::factorize(int threads, double single_from_f
     return cholmod_l_factorize(H, L, &common) && common.status == CHOLMOD_OK;
   // In single precision where large enough (L then needs no values of its own); where that
   // fails, in double.
+  bool single = false;
   if (single_from_flops >= 0.0 && supernodal->flops() >= single_from_flops) {
-    if (supernodal->factorize(*H, *L, threads, true)) {
-      ++summary.single_precision_factorizations;
-      L->minor = L->n;
-      return true;
-    }
-    ++summary.single_precision_fallbacks;
+    single = supernodal->factorize(*H, *L, threads, true);
+    ++(single ? summary.single_precision_factorizations : summary.single_precision_fallbacks);
   }
-  if (!(allocateValues() && supernodal->factorize(*H, *L, threads))) return false;
+  if (!single && !(allocateValues() && supernodal->factorize(*H, *L, threads))) return false;
   L->minor = L->n;
   return true;
 }
